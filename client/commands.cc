@@ -1,0 +1,215 @@
+#include "commands.h"
+
+#include <fmt/format.h>
+#include <google/protobuf/util/json_util.h>
+#include <grpcpp/grpcpp.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <random>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
+#include "job_printer.h"
+#include "scene_file.h"
+#include "seep/v1/job_service.grpc.pb.h"
+
+namespace seep::client {
+namespace {
+
+std::shared_ptr<grpc::Channel> Connect(const GlobalOptions& global) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(128 << 20);
+  return grpc::CreateCustomChannel(global.server, grpc::InsecureChannelCredentials(), args);
+}
+
+void SetDeadline(const GlobalOptions& global, grpc::ClientContext* ctx) {
+  ctx->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::milliseconds(static_cast<long>(global.timeout_s * 1000)));
+}
+
+int ReportRpcError(const GlobalOptions& global, const char* what, const grpc::Status& status) {
+  if (status.error_code() == grpc::StatusCode::UNAVAILABLE ||
+      status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
+    std::fprintf(stderr, "seep: %s: server %s unreachable: %s\n", what, global.server.c_str(),
+                 status.error_message().c_str());
+    return static_cast<int>(grpc::StatusCode::UNAVAILABLE);
+  }
+  std::fprintf(stderr, "seep: %s: %s\n", what, status.error_message().c_str());
+  return static_cast<int>(status.error_code());
+}
+
+std::string ToJson(const google::protobuf::Message& message) {
+  std::string json;
+  google::protobuf::util::JsonPrintOptions options;
+  options.add_whitespace = true;
+  options.preserve_proto_field_names = true;
+  (void)google::protobuf::util::MessageToJsonString(message, &json, options);
+  return json;
+}
+
+int ExitCodeFor(const v1::Job& job) {
+  switch (job.state()) {
+    case v1::JOB_STATE_FAILED:
+      return kExitJobFailed;
+    case v1::JOB_STATE_CANCELLED:
+      return kExitJobCancelled;
+    default:
+      return 0;
+  }
+}
+
+bool IsTerminal(v1::JobState s) {
+  return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
+}
+
+// A client-chosen idempotency key, printed so that a user can retry the same submission.
+std::string NewRequestId() {
+  std::random_device rd;
+  std::mt19937_64 rng((static_cast<std::uint64_t>(rd()) << 32) ^ rd());
+  return fmt::format("r-{:016x}", rng());
+}
+
+}  // namespace
+
+int Submit(const GlobalOptions& global, const SubmitOptions& options) {
+  v1::SubmitJobRequest request;
+  if (const std::string error = LoadSceneFile(options.scene_file, request.mutable_scene());
+      !error.empty()) {
+    std::fprintf(stderr, "seep: submit: %s\n", error.c_str());
+    return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  if (!options.name.empty()) request.mutable_scene()->set_name(options.name);
+  request.set_request_id(options.request_id.empty() ? NewRequestId() : options.request_id);
+
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  v1::SubmitJobResponse response;
+  if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "submit", status);
+  }
+  if (global.json && !options.watch) {
+    std::cout << ToJson(response.job());
+  } else {
+    std::cout << fmt::format("submitted job {} ({}, request id {})", response.job().id(),
+                             response.created() ? "new" : "already submitted", request.request_id())
+              << std::endl;
+  }
+  return options.watch ? Watch(global, response.job().id()) : 0;
+}
+
+int Watch(const GlobalOptions& global, const std::string& job_id) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;  // no deadline: a watch lasts as long as the job
+  v1::WatchJobRequest request;
+  request.set_id(job_id);
+  auto reader = stub->WatchJob(&ctx, request);
+  const bool tty = isatty(STDOUT_FILENO) != 0;
+  v1::JobEvent event;
+  v1::Job last;
+  std::string last_line;
+  while (reader->Read(&event)) {
+    last = event.job();
+    if (global.json) continue;
+    const std::string line = FormatProgress(last);
+    if (line == last_line) continue;
+    last_line = line;
+    if (tty) {
+      std::cout << "\r\033[K" << line << std::flush;
+    } else {
+      std::cout << line << "\n" << std::flush;
+    }
+  }
+  if (tty && !global.json) std::cout << "\n";
+  if (auto status = reader->Finish(); !status.ok()) return ReportRpcError(global, "watch", status);
+  if (!IsTerminal(last.state())) {
+    std::fprintf(stderr, "seep: watch: stream ended before job %s finished\n", job_id.c_str());
+    return static_cast<int>(grpc::StatusCode::UNAVAILABLE);
+  }
+  // The stream leaves out the scene and may lag the final write: read the job once more.
+  return Show(global, job_id) == 0 ? ExitCodeFor(last) : 1;
+}
+
+int Show(const GlobalOptions& global, const std::string& job_id) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  v1::GetJobRequest request;
+  request.set_id(job_id);
+  v1::GetJobResponse response;
+  if (auto status = stub->GetJob(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "show", status);
+  }
+  if (global.json) {
+    std::cout << ToJson(response.job());
+  } else {
+    std::cout << FormatJob(response.job());
+  }
+  return 0;
+}
+
+int List(const GlobalOptions& global, unsigned limit) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  v1::ListJobsResponse all;
+  std::string token;
+  do {
+    grpc::ClientContext ctx;
+    SetDeadline(global, &ctx);
+    v1::ListJobsRequest request;
+    request.set_page_size(std::min(limit - static_cast<unsigned>(all.jobs_size()), 1000u));
+    request.set_page_token(token);
+    v1::ListJobsResponse page;
+    if (auto status = stub->ListJobs(&ctx, request, &page); !status.ok()) {
+      return ReportRpcError(global, "list", status);
+    }
+    for (auto& job : *page.mutable_jobs()) *all.add_jobs() = std::move(job);
+    token = page.next_page_token();
+  } while (!token.empty() && static_cast<unsigned>(all.jobs_size()) < limit);
+  if (global.json) {
+    std::cout << ToJson(all);
+    return 0;
+  }
+  std::cout << FormatJobTableHeader() << "\n";
+  for (const auto& job : all.jobs()) std::cout << FormatJobRow(job) << "\n";
+  return 0;
+}
+
+int Health(const GlobalOptions& global) {
+  auto channel = Connect(global);
+  auto health = grpc::health::v1::Health::NewStub(channel);
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  grpc::health::v1::HealthCheckRequest request;
+  grpc::health::v1::HealthCheckResponse response;
+  if (auto status = health->Check(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "health", status);
+  }
+  const std::string serving =
+      grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status());
+  std::cout << "status   " << serving << "\n";
+
+  // Which services the server offers, through gRPC server reflection (v1alpha in gRPC 1.51).
+  auto reflection = grpc::reflection::v1alpha::ServerReflection::NewStub(channel);
+  grpc::ClientContext rctx;
+  SetDeadline(global, &rctx);
+  auto stream = reflection->ServerReflectionInfo(&rctx);
+  grpc::reflection::v1alpha::ServerReflectionRequest list;
+  list.set_list_services("");
+  grpc::reflection::v1alpha::ServerReflectionResponse listed;
+  if (stream->Write(list) && stream->WritesDone() && stream->Read(&listed)) {
+    for (const auto& s : listed.list_services_response().service()) {
+      std::cout << "service  " << s.name() << "\n";
+    }
+  }
+  if (auto status = stream->Finish(); !status.ok()) {
+    return ReportRpcError(global, "health (reflection)", status);
+  }
+  return response.status() == grpc::health::v1::HealthCheckResponse::SERVING
+             ? 0
+             : static_cast<int>(grpc::StatusCode::UNAVAILABLE);
+}
+
+}  // namespace seep::client

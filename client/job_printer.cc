@@ -1,0 +1,64 @@
+#include "job_printer.h"
+
+#include <fmt/format.h>
+#include <google/protobuf/util/time_util.h>
+
+#include <map>
+
+namespace seep::client {
+namespace {
+
+std::string FormatTime(const google::protobuf::Timestamp& t) {
+  if (t.seconds() == 0 && t.nanos() == 0) return "-";
+  return google::protobuf::util::TimeUtil::ToString(t);
+}
+
+}  // namespace
+
+std::string StateName(v1::JobState state) {
+  std::string name = v1::JobState_Name(state);
+  const std::string prefix = "JOB_STATE_";
+  if (name.rfind(prefix, 0) == 0) name.erase(0, prefix.size());
+  return name;
+}
+
+std::string FormatJob(const v1::Job& job) {
+  std::string out = fmt::format("job       {}\nname      {}\nstate     {}\n", job.id(), job.name(),
+                                StateName(job.state()));
+  out += fmt::format("created   {}\nstarted   {}\nfinished  {}\n", FormatTime(job.created_at()),
+                     FormatTime(job.started_at()), FormatTime(job.finished_at()));
+  out += fmt::format("progress  step {}, t = {:.6g} s, {:.1f}%\n", job.progress().step(),
+                     job.progress().time_s(), 100.0 * job.progress().fraction_done());
+  out += fmt::format("build     {}\n", job.build_id());
+  if (job.has_error()) {
+    out += fmt::format("error     {}: {}\n", job.error().code(), job.error().message());
+  }
+  if (job.has_result()) {
+    out += fmt::format("wall time {:.3f} s\nresult\n", job.result().wall_time_s());
+    // Sorted by name: protobuf maps have no order.
+    const std::map<std::string, double> metrics(job.result().metrics().begin(),
+                                                job.result().metrics().end());
+    for (const auto& [name, value] : metrics) out += fmt::format("  {:<28} {:.9g}\n", name, value);
+  }
+  return out;
+}
+
+std::string FormatJobTableHeader() {
+  return fmt::format("{:<20} {:<10} {:>7} {:<24} {}", "ID", "STATE", "DONE", "CREATED", "NAME");
+}
+
+std::string FormatJobRow(const v1::Job& job) {
+  return fmt::format("{:<20} {:<10} {:>6.1f}% {:<24} {}", job.id(), StateName(job.state()),
+                     100.0 * job.progress().fraction_done(), FormatTime(job.created_at()),
+                     job.name());
+}
+
+std::string FormatProgress(const v1::Job& job) {
+  const auto& p = job.progress();
+  std::string line = fmt::format("{:<9} step {:>9}  t = {:<11.5g} {:5.1f}%", StateName(job.state()),
+                                 p.step(), p.time_s(), 100.0 * p.fraction_done());
+  if (p.eta_s() > 0.0) line += fmt::format("  ETA {:.1f} s", p.eta_s());
+  return line;
+}
+
+}  // namespace seep::client

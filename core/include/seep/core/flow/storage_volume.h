@@ -1,0 +1,28 @@
+// Per-domain storage volume V_s = factor * (V_d or V_p), the volume in the denominator of the
+// pressure update (physics.md §1.2, R1/R2). Fixed-pressure domains store nothing the solvers use;
+// every other domain must have V_s > 0 or its pressure update is undefined.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "seep/core/flow/flow_network.h"
+#include "seep/core/flow/fluid.h"
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+// V_s of domain d, m^2 (no checks).
+inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& storage,
+                              std::size_t d) {
+  const double v = storage.volume == StorageVolume::kPore ? network.pore_volume()[d]
+                                                          : network.apparent_volume()[d];
+  return storage.factor * v;
+}
+
+// V_s for every domain. Fails with InvalidArgument naming the domain when a free or source domain
+// has V_s <= 0 (a sliver or an unset volume: apply a volume floor, physics.md §4.4).
+Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
+                                                  const StorageModel& storage);
+
+}  // namespace seep::core

@@ -1,0 +1,94 @@
+// SceneSpec: a validated, immutable description of one simulation, in core types.
+//
+// It mirrors seep.v1.Scene field for field (service/codec converts between them). SI units, per
+// unit out-of-plane thickness. Validate() is the domain check: it names the failing field by its
+// path in the scene ("scene.fluid.viscosity_pa_s: must be > 0 (got -1)").
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+enum class LatticeKind { kSquare, kHex };
+
+struct LatticePackingSpec {
+  LatticeKind kind = LatticeKind::kSquare;
+  std::uint32_t columns = 0;
+  std::uint32_t rows = 0;
+  double radius_m = 0.0;
+};
+
+struct RandomPackingSpec {
+  std::uint64_t seed = 0;
+  double width_m = 0.0;
+  double height_m = 0.0;
+  double min_radius_m = 0.0;
+  double max_radius_m = 0.0;
+  double target_porosity = 0.0;
+  std::uint32_t particle_count = 0;
+};
+
+struct ParticleListSpec {
+  std::vector<double> x_m;
+  std::vector<double> y_m;
+  std::vector<double> radius_m;
+};
+
+using PackingSource = std::variant<LatticePackingSpec, RandomPackingSpec, ParticleListSpec>;
+
+struct PackingSpec {
+  PackingSource source;
+  double contact_gap_m = 0.0;
+};
+
+struct FluidSpec {
+  double viscosity_pa_s = 1e-3;
+  double bulk_modulus_pa = 2.2e9;
+};
+
+struct ApertureLawSpec {
+  double residual_aperture_m = 0.0;
+  double reference_force_n = 0.0;
+  double gap_multiplier = 0.0;
+  double max_aperture_m = 0.0;  // 0 = no cap
+};
+
+enum class FlowAxis { kX, kY };
+
+struct BoundarySpec {
+  FlowAxis axis = FlowAxis::kX;
+  double inlet_pressure_pa = 0.0;
+  double outlet_pressure_pa = 0.0;
+  double initial_pressure_pa = 0.0;
+};
+
+enum class SolverKind { kSteady, kExplicit, kImplicit };
+enum class StorageVolumeKind { kApparent, kPore };
+
+struct SolverSpec {
+  SolverKind kind = SolverKind::kSteady;
+  StorageVolumeKind storage = StorageVolumeKind::kPore;
+  double dt_factor = 0.9;
+  double end_time_s = 0.0;
+  std::uint64_t progress_every = 0;
+};
+
+struct SceneSpec {
+  std::string name;
+  PackingSpec packing;
+  FluidSpec fluid;
+  ApertureLawSpec aperture;
+  BoundarySpec boundary;
+  SolverSpec solver;
+};
+
+// Checks every field against its physical range. The first violation is returned; its message
+// starts with the field path.
+Status ValidateScene(const SceneSpec& scene);
+
+}  // namespace seep::core

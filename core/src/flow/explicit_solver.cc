@@ -1,0 +1,295 @@
+#include "seep/core/flow/explicit_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "seep/core/flow/storage_volume.h"
+#include "seep/core/log.h"
+
+namespace seep::core {
+
+namespace {
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+// q = C (P_b - P_a) flows from b into a. Storage order, so a locality-ordered network streams.
+void AccumulatePipeFlows(std::size_t num_pipes, const std::int32_t* __restrict a,
+                         const std::int32_t* __restrict b, const double* __restrict c,
+                         const double* __restrict pressure, double* __restrict inflow) {
+  for (std::size_t p = 0; p < num_pipes; ++p) {
+    const std::int32_t i = a[p];
+    const std::int32_t j = b[p];
+    const double q = c[p] * (pressure[j] - pressure[i]);
+    inflow[i] += q;
+    inflow[j] -= q;
+  }
+}
+
+// The plain update: P += gain * inflow, accumulator reset. Fixed domains have gain 0.
+void UpdateDomains(std::size_t n, const double* __restrict gain, double* __restrict inflow,
+                   double* __restrict pressure) {
+  for (std::size_t i = 0; i < n; ++i) {
+    pressure[i] += gain[i] * inflow[i];
+    inflow[i] = 0.0;
+  }
+}
+
+// With a deformation term: P += gain * (inflow - dV/dt).
+void UpdateDomainsWithVolumeChange(std::size_t n, const double* __restrict gain,
+                                   const double* __restrict volume_change, double inv_dt,
+                                   double* __restrict inflow, double* __restrict pressure) {
+  for (std::size_t i = 0; i < n; ++i) {
+    pressure[i] += gain[i] * (inflow[i] - volume_change[i] * inv_dt);
+    inflow[i] = 0.0;
+  }
+}
+
+struct Budget {
+  double boundary_inflow = 0.0;
+  double boundary_magnitude = 0.0;
+  double volume_change = 0.0;
+  double volume_magnitude = 0.0;
+  double stored_change = 0.0;
+  double stored_magnitude = 0.0;
+  double stored_level = 0.0;  // sum V_s |P| / K_f after the step
+  double min_pressure = std::numeric_limits<double>::infinity();
+  double max_pressure = -std::numeric_limits<double>::infinity();
+};
+
+// The update with the fluid budget of the step, in domain order (deterministic sums).
+Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* capacity,
+                               const double* volume_change, double inv_dt, double* inflow,
+                               double* pressure) {
+  Budget out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double old_p = pressure[i];
+    if (capacity[i] == 0.0) {  // fixed-pressure node: inflow[i] is what leaves the network into it
+      out.boundary_inflow -= inflow[i];
+      out.boundary_magnitude += std::abs(inflow[i]);
+    } else {
+      const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
+      const double new_p = old_p + gain[i] * (inflow[i] - dv * inv_dt);
+      pressure[i] = new_p;
+      const double stored = capacity[i] * (new_p - old_p);
+      out.stored_change += stored;
+      out.stored_magnitude += std::abs(stored);
+      out.stored_level += capacity[i] * std::abs(new_p);
+      out.volume_change += dv;
+      out.volume_magnitude += std::abs(dv);
+    }
+    inflow[i] = 0.0;
+    out.min_pressure = std::min(out.min_pressure, pressure[i]);
+    out.max_pressure = std::max(out.max_pressure, pressure[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<ExplicitSolver> ExplicitSolver::Create(const ExplicitSolverOptions& options) {
+  if (!(std::isfinite(options.bulk_modulus) && options.bulk_modulus > 0.0)) {
+    return InvalidArgument("flow.explicit.bulk_modulus: must be finite and > 0 (got " +
+                           Num(options.bulk_modulus) + ")");
+  }
+  SEEP_RETURN_IF_ERROR(ValidateStorageModel(options.storage));
+  if (!(options.safety_factor > 0.0 && options.safety_factor <= 1.0)) {
+    return InvalidArgument("flow.explicit.safety_factor: must be in (0, 1] (got " +
+                           Num(options.safety_factor) + ")");
+  }
+  return ExplicitSolver(options);
+}
+
+Status ExplicitSolver::Prepare(const FlowNetwork& network) {
+  if (network.topology_version() == topology_stamp_ &&
+      network.coefficient_version() == coefficient_stamp_) {
+    return Status::Ok();
+  }
+  SEEP_RETURN_IF_ERROR(network.Validate());
+  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, options_.storage));
+  SEEP_ASSIGN_OR_RETURN(limit_,
+                        ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
+  const std::size_t n = network.num_domains();
+  const auto role = network.role();
+  const auto q_src = network.source_rate();
+  rate_.assign(n, 0.0);
+  capacity_.assign(n, 0.0);
+  inflow_.assign(n, 0.0);
+  sources_.clear();
+  for (std::size_t d = 0; d < n; ++d) {
+    if (role[d] == DomainRole::kFixedPressure) continue;
+    rate_[d] = options_.bulk_modulus / vs[d];
+    capacity_[d] = vs[d] / options_.bulk_modulus;
+    if (role[d] == DomainRole::kSource && q_src[d] != 0.0) {
+      sources_.push_back(static_cast<std::int32_t>(d));
+      inflow_[d] = q_src[d];
+    }
+  }
+  gain_.assign(n, 0.0);
+  gain_dt_ = -1.0;
+  topology_stamp_ = network.topology_version();
+  coefficient_stamp_ = network.coefficient_version();
+  return Status::Ok();
+}
+
+Result<CriticalTimeStep> ExplicitSolver::CriticalStep(const FlowNetwork& network) {
+  SEEP_RETURN_IF_ERROR(Prepare(network));
+  return limit_;
+}
+
+Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
+                                            std::span<const double> volume_change) {
+  if (!(std::isfinite(dt) && dt > 0.0)) {
+    return InvalidArgument("flow.explicit.dt: must be finite and > 0 (got " + Num(dt) + ")");
+  }
+  const std::size_t n = network.num_domains();
+  if (!volume_change.empty() && volume_change.size() != n) {
+    return InvalidArgument("flow.explicit.volume_change: has " +
+                           std::to_string(volume_change.size()) + " entries, expected " +
+                           std::to_string(n) + " (one per domain, or none)");
+  }
+  if (options_.diagnostics) {
+    for (std::size_t d = 0; d < volume_change.size(); ++d) {
+      if (!std::isfinite(volume_change[d])) {
+        return InvalidArgument("flow.explicit.volume_change[" + std::to_string(d) +
+                               "]: must be finite (got " + Num(volume_change[d]) + ")");
+      }
+    }
+  }
+  SEEP_RETURN_IF_ERROR(Prepare(network));
+
+  FlowStepReport report;
+  report.dt_requested = dt;
+  report.dt_crit = limit_.dt_crit;
+  report.limiting_domain = limit_.limiting_domain;
+  const double allowed = options_.safety_factor * limit_.dt_crit;
+  double step = dt;
+  if (dt > allowed) {
+    switch (options_.policy) {
+      case StepLimitPolicy::kRefuse:
+        return FailedPrecondition(
+            "flow.explicit: dt = " + Num(dt) + " s exceeds safety_factor * dt_crit = " +
+            Num(allowed) + " s (dt_crit = V_s/(K_f sum C) = " + Num(limit_.dt_crit) +
+            " s at domain " + std::to_string(limit_.limiting_domain) +
+            ": V_s = " + Num(limit_.limiting_storage_volume) +
+            " m^2, sum C = " + Num(limit_.limiting_conductance_sum) +
+            " m^2/(Pa s)); the explicit update would be unstable. Reduce dt (or use policy "
+            "kReduce to sub-step), switch to the implicit solver, raise the storage volume "
+            "(storage factor or volume floor), cap the aperture, or lower K_f");
+      case StepLimitPolicy::kReduce:
+        step = allowed;
+        break;
+      case StepLimitPolicy::kAdviseOnly:
+        report.limit_exceeded = true;
+        if (warned_advise_only_) break;
+        warned_advise_only_ = true;
+        Logger()->warn(
+            "flow.explicit: running dt = {} s above safety * dt_crit = {} s "
+            "(advise-only policy)",
+            dt, allowed);
+        break;
+    }
+  }
+  report.dt = step;
+
+  if (step != gain_dt_) {
+    for (std::size_t d = 0; d < n; ++d) gain_[d] = step * rate_[d];
+    gain_dt_ = step;
+  }
+
+  double* pressure = network.mutable_pressure().data();
+  AccumulatePipeFlows(network.num_pipes(), network.pipe_domain_a().data(),
+                      network.pipe_domain_b().data(), network.pipe_conductance().data(), pressure,
+                      inflow_.data());
+  double source_inflow = 0.0;
+  double source_magnitude = 0.0;
+  for (const std::int32_t s : sources_) {
+    source_inflow += network.source_rate()[s];
+    source_magnitude += std::abs(network.source_rate()[s]);
+  }
+  const double inv_dt = 1.0 / step;
+  if (options_.diagnostics) {
+    const Budget b = UpdateDomainsWithBudget(n, gain_.data(), capacity_.data(),
+                                             volume_change.empty() ? nullptr : volume_change.data(),
+                                             inv_dt, inflow_.data(), pressure);
+    report.boundary_inflow = b.boundary_inflow;
+    report.source_inflow = source_inflow;
+    report.volume_change = b.volume_change;
+    report.stored_change = b.stored_change;
+    const double expected = step * (b.boundary_inflow + source_inflow) - b.volume_change;
+    const double scale =
+        b.stored_magnitude + step * (b.boundary_magnitude + source_magnitude) + b.volume_magnitude;
+    report.mass_balance_error = scale > 0.0 ? std::abs(b.stored_change - expected) / scale : 0.0;
+    report.min_pressure = b.min_pressure;
+    report.max_pressure = b.max_pressure;
+  } else if (volume_change.empty()) {
+    UpdateDomains(n, gain_.data(), inflow_.data(), pressure);
+  } else {
+    UpdateDomainsWithVolumeChange(n, gain_.data(), volume_change.data(), inv_dt, inflow_.data(),
+                                  pressure);
+  }
+  // Re-arm the accumulator with the sources of the next step.
+  for (const std::int32_t s : sources_) inflow_[s] = network.source_rate()[s];
+
+  if (options_.diagnostics &&
+      !(std::isfinite(report.min_pressure) && std::isfinite(report.max_pressure))) {
+    return FailedPrecondition("flow.explicit: pressure became non-finite (min " +
+                              Num(report.min_pressure) + ", max " + Num(report.max_pressure) +
+                              " Pa); check dt against dt_crit and the dV input");
+  }
+  return report;
+}
+
+Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double duration,
+                                                  std::span<const double> volume_change) {
+  if (!(std::isfinite(duration) && duration > 0.0)) {
+    return InvalidArgument("flow.explicit.duration: must be finite and > 0 (got " + Num(duration) +
+                           ")");
+  }
+  if (!volume_change.empty() && volume_change.size() != network.num_domains()) {
+    return InvalidArgument("flow.explicit.volume_change: has " +
+                           std::to_string(volume_change.size()) + " entries, expected " +
+                           std::to_string(network.num_domains()) + " (one per domain, or none)");
+  }
+  SEEP_RETURN_IF_ERROR(Prepare(network));
+  const double allowed = options_.safety_factor * limit_.dt_crit;
+  const double n = std::isfinite(allowed) ? std::ceil(duration / allowed) : 1.0;
+  if (n > 1e12) {
+    return FailedPrecondition("flow.explicit: advancing " + Num(duration) + " s needs " + Num(n) +
+                              " sub-steps of dt_crit = " + Num(limit_.dt_crit) +
+                              " s; use the implicit solver");
+  }
+  FlowAdvanceReport out;
+  out.sub_steps = static_cast<std::int64_t>(std::max(1.0, n));
+  out.sub_step = duration / static_cast<double>(out.sub_steps);
+  out.dt_crit = limit_.dt_crit;
+  out.limiting_domain = limit_.limiting_domain;
+  // duration / n can round above the allowed step by an ulp: the governor must not refuse it.
+  const double step = std::min(out.sub_step, allowed);
+  std::span<const double> dv;
+  if (!volume_change.empty()) {
+    sub_step_volume_change_.resize(volume_change.size());
+    const double share = 1.0 / static_cast<double>(out.sub_steps);
+    for (std::size_t d = 0; d < volume_change.size(); ++d) {
+      sub_step_volume_change_[d] = volume_change[d] * share;
+    }
+    dv = sub_step_volume_change_;
+  }
+  out.max_mass_balance_error = options_.diagnostics ? 0.0 : FlowStepReport::kNaN;
+  for (std::int64_t k = 0; k < out.sub_steps; ++k) {
+    SEEP_ASSIGN_OR_RETURN(out.last, Step(network, step, dv));
+    if (options_.diagnostics) {
+      out.max_mass_balance_error =
+          std::max(out.max_mass_balance_error, out.last.mass_balance_error);
+    }
+  }
+  return out;
+}
+
+}  // namespace seep::core

@@ -1,0 +1,104 @@
+#include "seep/core/flow/flow_diagnostics.h"
+
+#include <cmath>
+#include <string>
+
+#include "seep/core/flow/storage_volume.h"
+
+namespace seep::core {
+
+BoundaryFluxes ComputeBoundaryFluxes(const FlowNetwork& network) {
+  const std::size_t nd = network.num_domains();
+  const auto role = network.role();
+  const auto pa = network.pipe_domain_a();
+  const auto pb = network.pipe_domain_b();
+  const auto c = network.pipe_conductance();
+  const auto pressure = network.pressure();
+  std::vector<double> per_domain(nd, 0.0);
+  std::vector<std::uint8_t> touched(nd, 0);
+  for (std::size_t p = 0; p < c.size(); ++p) {
+    const bool fa = role[pa[p]] == DomainRole::kFixedPressure;
+    const bool fb = role[pb[p]] == DomainRole::kFixedPressure;
+    if (fa == fb) continue;
+    const std::int32_t fixed = fa ? pa[p] : pb[p];
+    const std::int32_t inner = fa ? pb[p] : pa[p];
+    per_domain[fixed] += c[p] * (pressure[fixed] - pressure[inner]);
+    touched[fixed] = 1;
+  }
+  BoundaryFluxes out;
+  for (std::size_t d = 0; d < nd; ++d) {
+    if (!touched[d]) continue;
+    out.domain.push_back(static_cast<std::int32_t>(d));
+    out.inflow.push_back(per_domain[d]);
+    if (per_domain[d] > 0.0) {
+      out.total_inflow += per_domain[d];
+    } else {
+      out.total_outflow -= per_domain[d];
+    }
+  }
+  out.net_inflow = out.total_inflow - out.total_outflow;
+  return out;
+}
+
+Result<double> StoredFluidExcess(const FlowNetwork& network, double bulk_modulus,
+                                 const StorageModel& storage) {
+  if (!(std::isfinite(bulk_modulus) && bulk_modulus > 0.0)) {
+    return InvalidArgument("flow.fluid.bulk_modulus: must be finite and > 0");
+  }
+  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, storage));
+  const auto role = network.role();
+  const auto pressure = network.pressure();
+  double sum = 0.0;
+  for (std::size_t d = 0; d < vs.size(); ++d) {
+    if (role[d] != DomainRole::kFixedPressure) sum += vs[d] * pressure[d];
+  }
+  return sum / bulk_modulus;
+}
+
+Result<double> FluidMassProxy(const FlowNetwork& network, double bulk_modulus,
+                              const StorageModel& storage) {
+  SEEP_ASSIGN_OR_RETURN(double excess, StoredFluidExcess(network, bulk_modulus, storage));
+  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, storage));
+  const auto role = network.role();
+  double volume = 0.0;
+  for (std::size_t d = 0; d < vs.size(); ++d) {
+    if (role[d] != DomainRole::kFixedPressure) volume += vs[d];
+  }
+  return volume + excess;
+}
+
+PressureRange ComputePressureRange(const FlowNetwork& network) {
+  PressureRange out;
+  const auto pressure = network.pressure();
+  for (std::size_t d = 0; d < pressure.size(); ++d) {
+    if (out.argmin < 0 || pressure[d] < out.min) {
+      out.min = pressure[d];
+      out.argmin = static_cast<std::int32_t>(d);
+    }
+    if (out.argmax < 0 || pressure[d] > out.max) {
+      out.max = pressure[d];
+      out.argmax = static_cast<std::int32_t>(d);
+    }
+  }
+  return out;
+}
+
+Result<double> DarcyPermeability(double viscosity, double flow_rate, double length, double height,
+                                 double pressure_drop) {
+  auto positive = [](const char* field, double v) -> Status {
+    if (std::isfinite(v) && v > 0.0) return Status::Ok();
+    return InvalidArgument(std::string("flow.darcy.") + field + ": must be finite and > 0 (got " +
+                           std::to_string(v) + ")");
+  };
+  SEEP_RETURN_IF_ERROR(positive("viscosity", viscosity));
+  SEEP_RETURN_IF_ERROR(positive("length", length));
+  SEEP_RETURN_IF_ERROR(positive("height", height));
+  if (!(std::isfinite(pressure_drop) && pressure_drop != 0.0)) {
+    return InvalidArgument("flow.darcy.pressure_drop: must be finite and non-zero (got " +
+                           std::to_string(pressure_drop) + ")");
+  }
+  if (!std::isfinite(flow_rate)) return InvalidArgument("flow.darcy.flow_rate: must be finite");
+  return viscosity * flow_rate * length / (height * pressure_drop);
+}
+
+}  // namespace seep::core

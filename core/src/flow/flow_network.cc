@@ -1,0 +1,215 @@
+#include "seep/core/flow/flow_network.h"
+
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace seep::core {
+
+std::uint64_t NextFlowVersionStamp() {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+namespace {
+
+std::string Indexed(const char* field, std::size_t index) {
+  return std::string("flow.network.") + field + "[" + std::to_string(index) + "]";
+}
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+Status CheckSize(const char* field, std::size_t got, std::size_t want, const char* per) {
+  if (got == want) return Status::Ok();
+  return InvalidArgument(std::string("flow.network.") + field + ": has " + std::to_string(got) +
+                         " entries, expected " + std::to_string(want) + " (one per " + per + ")");
+}
+
+Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!(std::isfinite(v[i]) && v[i] >= 0.0)) {
+      return InvalidArgument(Indexed(field, i) + ": must be finite and >= 0 (got " + Num(v[i]) +
+                             ")");
+    }
+  }
+  return Status::Ok();
+}
+
+Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!(std::isfinite(v[i]) && v[i] > 0.0)) {
+      return InvalidArgument(Indexed(field, i) + ": must be finite and > 0 (got " + Num(v[i]) +
+                             ")");
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+FlowNetwork::FlowNetwork()
+    : topology_version_(NextFlowVersionStamp()), coefficient_version_(NextFlowVersionStamp()) {}
+
+FlowNetwork::FlowNetwork(FlowNetworkData data)
+    : data_(std::move(data)),
+      topology_version_(NextFlowVersionStamp()),
+      coefficient_version_(NextFlowVersionStamp()) {}
+
+Result<FlowNetwork> FlowNetwork::Create(FlowNetworkData data) {
+  SEEP_RETURN_IF_ERROR(Validate(data));
+  return FlowNetwork(std::move(data));
+}
+
+Status FlowNetwork::Validate(const FlowNetworkData& d) {
+  const std::size_t nd = d.pressure.size();
+  SEEP_RETURN_IF_ERROR(CheckSize("apparent_volume", d.apparent_volume.size(), nd, "domain"));
+  SEEP_RETURN_IF_ERROR(CheckSize("pore_volume", d.pore_volume.size(), nd, "domain"));
+  SEEP_RETURN_IF_ERROR(CheckSize("role", d.role.size(), nd, "domain"));
+  SEEP_RETURN_IF_ERROR(CheckSize("source_rate", d.source_rate.size(), nd, "domain"));
+  const std::size_t np = d.pipe_conductance.size();
+  SEEP_RETURN_IF_ERROR(CheckSize("pipe_domain_a", d.pipe_domain_a.size(), np, "pipe"));
+  SEEP_RETURN_IF_ERROR(CheckSize("pipe_domain_b", d.pipe_domain_b.size(), np, "pipe"));
+  SEEP_RETURN_IF_ERROR(CheckSize("pipe_length", d.pipe_length.size(), np, "pipe"));
+  SEEP_RETURN_IF_ERROR(CheckSize("pipe_aperture", d.pipe_aperture.size(), np, "pipe"));
+  if (nd > static_cast<std::size_t>(INT32_MAX)) {
+    return InvalidArgument("flow.network: more than 2^31-1 domains");
+  }
+
+  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("apparent_volume", d.apparent_volume));
+  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pore_volume", d.pore_volume));
+  for (std::size_t i = 0; i < nd; ++i) {
+    if (d.pore_volume[i] > d.apparent_volume[i]) {
+      return InvalidArgument(Indexed("pore_volume", i) + ": exceeds apparent_volume (" +
+                             Num(d.pore_volume[i]) + " > " + Num(d.apparent_volume[i]) + ")");
+    }
+    if (!std::isfinite(d.pressure[i])) {
+      return InvalidArgument(Indexed("pressure", i) + ": must be finite (got " +
+                             Num(d.pressure[i]) + ")");
+    }
+    const auto r = static_cast<std::uint8_t>(d.role[i]);
+    if (r > static_cast<std::uint8_t>(DomainRole::kSource)) {
+      return InvalidArgument(Indexed("role", i) + ": unknown role " + std::to_string(r));
+    }
+    if (!std::isfinite(d.source_rate[i])) {
+      return InvalidArgument(Indexed("source_rate", i) + ": must be finite (got " +
+                             Num(d.source_rate[i]) + ")");
+    }
+    if (d.source_rate[i] != 0.0 && d.role[i] != DomainRole::kSource) {
+      return InvalidArgument(Indexed("source_rate", i) + ": is " + Num(d.source_rate[i]) +
+                             " but the domain's role is not kSource");
+    }
+  }
+
+  for (std::size_t p = 0; p < np; ++p) {
+    const std::int32_t a = d.pipe_domain_a[p];
+    const std::int32_t b = d.pipe_domain_b[p];
+    if (a < 0 || static_cast<std::size_t>(a) >= nd) {
+      return InvalidArgument(Indexed("pipe_domain_a", p) + ": domain index " + std::to_string(a) +
+                             " out of range [0, " + std::to_string(nd) + ")");
+    }
+    if (b < 0 || static_cast<std::size_t>(b) >= nd) {
+      return InvalidArgument(Indexed("pipe_domain_b", p) + ": domain index " + std::to_string(b) +
+                             " out of range [0, " + std::to_string(nd) + ")");
+    }
+    if (a == b) {
+      return InvalidArgument(Indexed("pipe_domain_b", p) + ": pipe connects domain " +
+                             std::to_string(a) + " to itself");
+    }
+  }
+  SEEP_RETURN_IF_ERROR(CheckFinitePositive("pipe_length", d.pipe_length));
+  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pipe_aperture", d.pipe_aperture));
+  // A zero conductance is a pipe that is not there; keeping it would hide a bug upstream.
+  return CheckFinitePositive("pipe_conductance", d.pipe_conductance);
+}
+
+std::span<double> FlowNetwork::mutable_pipe_conductance() {
+  coefficient_version_ = NextFlowVersionStamp();
+  return data_.pipe_conductance;
+}
+
+std::span<double> FlowNetwork::mutable_apparent_volume() {
+  coefficient_version_ = NextFlowVersionStamp();
+  return data_.apparent_volume;
+}
+
+std::span<double> FlowNetwork::mutable_pore_volume() {
+  coefficient_version_ = NextFlowVersionStamp();
+  return data_.pore_volume;
+}
+
+Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscosity) {
+  if (aperture.size() != num_pipes()) {
+    return InvalidArgument("flow.network.pipe_aperture: has " + std::to_string(aperture.size()) +
+                           " entries, expected " + std::to_string(num_pipes()) + " (one per pipe)");
+  }
+  if (!(std::isfinite(viscosity) && viscosity > 0.0)) {
+    return InvalidArgument("flow.fluid.viscosity: must be finite and > 0 (got " + Num(viscosity) +
+                           ")");
+  }
+  for (std::size_t p = 0; p < aperture.size(); ++p) {
+    if (!(std::isfinite(aperture[p]) && aperture[p] > 0.0)) {
+      return InvalidArgument(Indexed("pipe_aperture", p) + ": must be finite and > 0 (got " +
+                             Num(aperture[p]) + ")");
+    }
+  }
+  coefficient_version_ = NextFlowVersionStamp();
+  for (std::size_t p = 0; p < aperture.size(); ++p) {
+    const double a = aperture[p];
+    data_.pipe_aperture[p] = a;
+    data_.pipe_conductance[p] = a * a * a / (12.0 * viscosity * data_.pipe_length[p]);
+  }
+  return Status::Ok();
+}
+
+Status FlowNetwork::CheckDomainIndex(std::int32_t domain, const char* what) const {
+  if (domain >= 0 && static_cast<std::size_t>(domain) < num_domains()) return Status::Ok();
+  return InvalidArgument(std::string("flow.network.") + what + ": domain index " +
+                         std::to_string(domain) + " out of range [0, " +
+                         std::to_string(num_domains()) + ")");
+}
+
+void FlowNetwork::SetRole(std::int32_t domain, DomainRole role) {
+  if (data_.role[domain] != role) {
+    data_.role[domain] = role;
+    topology_version_ = NextFlowVersionStamp();
+  }
+  coefficient_version_ = NextFlowVersionStamp();
+}
+
+Status FlowNetwork::SetFixedPressure(std::int32_t domain, double pressure) {
+  SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetFixedPressure"));
+  if (!std::isfinite(pressure)) {
+    return InvalidArgument(Indexed("pressure", static_cast<std::size_t>(domain)) +
+                           ": must be finite (got " + Num(pressure) + ")");
+  }
+  SetRole(domain, DomainRole::kFixedPressure);
+  data_.pressure[domain] = pressure;
+  data_.source_rate[domain] = 0.0;
+  return Status::Ok();
+}
+
+Status FlowNetwork::SetSource(std::int32_t domain, double rate) {
+  SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetSource"));
+  if (!std::isfinite(rate)) {
+    return InvalidArgument(Indexed("source_rate", static_cast<std::size_t>(domain)) +
+                           ": must be finite (got " + Num(rate) + ")");
+  }
+  SetRole(domain, DomainRole::kSource);
+  data_.source_rate[domain] = rate;
+  return Status::Ok();
+}
+
+Status FlowNetwork::SetFree(std::int32_t domain) {
+  SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetFree"));
+  SetRole(domain, DomainRole::kFree);
+  data_.source_rate[domain] = 0.0;
+  return Status::Ok();
+}
+
+}  // namespace seep::core

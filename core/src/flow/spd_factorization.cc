@@ -1,0 +1,115 @@
+#include "spd_factorization.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+#include <string>
+
+namespace seep::core {
+
+std::string_view LinearSolverKindName(LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::kCholmodSupernodal:
+      return "cholmod_supernodal";
+    case LinearSolverKind::kEigenSimplicialLdlt:
+      return "eigen_simplicial_ldlt";
+  }
+  return "unknown";
+}
+
+namespace flow_internal {
+
+namespace {
+std::string InfoName(Eigen::ComputationInfo info) {
+  switch (info) {
+    case Eigen::Success:
+      return "success";
+    case Eigen::NumericalIssue:
+      return "numerical issue (matrix not positive definite)";
+    case Eigen::NoConvergence:
+      return "no convergence";
+    case Eigen::InvalidInput:
+      return "invalid input";
+  }
+  return "unknown";
+}
+}  // namespace
+
+// Both Eigen wrappers are neither copyable nor movable (CHOLMOD keeps a pointer into its
+// common block), hence the heap indirection.
+struct SpdFactorization::Impl {
+  std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>> ldlt;
+  std::unique_ptr<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>> cholmod;
+  bool analyzed = false;
+  bool factorized = false;
+};
+
+SpdFactorization::SpdFactorization(LinearSolverKind kind)
+    : kind_(kind), impl_(std::make_unique<Impl>()) {
+  if (kind == LinearSolverKind::kCholmodSupernodal) {
+    impl_->cholmod = std::make_unique<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>();
+  } else {
+    impl_->ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>();
+  }
+}
+
+SpdFactorization::~SpdFactorization() = default;
+SpdFactorization::SpdFactorization(SpdFactorization&&) noexcept = default;
+SpdFactorization& SpdFactorization::operator=(SpdFactorization&&) noexcept = default;
+
+Status SpdFactorization::Analyze(const SparseMatrix& lower) {
+  impl_->analyzed = impl_->factorized = false;
+  Eigen::ComputationInfo info;
+  if (impl_->cholmod) {
+    impl_->cholmod->analyzePattern(lower);
+    info = impl_->cholmod->info();
+  } else {
+    impl_->ldlt->analyzePattern(lower);
+    info = impl_->ldlt->info();
+  }
+  if (info != Eigen::Success) {
+    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+                    "): symbolic analysis failed: " + InfoName(info));
+  }
+  impl_->analyzed = true;
+  return Status::Ok();
+}
+
+Status SpdFactorization::Factorize(const SparseMatrix& lower) {
+  if (!impl_->analyzed) return Internal("flow.linear_solver: Factorize before Analyze");
+  impl_->factorized = false;
+  Eigen::ComputationInfo info;
+  if (impl_->cholmod) {
+    impl_->cholmod->factorize(lower);
+    info = impl_->cholmod->info();
+  } else {
+    impl_->ldlt->factorize(lower);
+    info = impl_->ldlt->info();
+  }
+  if (info != Eigen::Success) {
+    return FailedPrecondition("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+                              "): factorization failed: " + InfoName(info) +
+                              "; check for a component without a fixed-pressure node");
+  }
+  impl_->factorized = true;
+  return Status::Ok();
+}
+
+Status SpdFactorization::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const {
+  if (!impl_->factorized) return Internal("flow.linear_solver: Solve before Factorize");
+  Eigen::ComputationInfo info;
+  if (impl_->cholmod) {
+    x = impl_->cholmod->solve(rhs);
+    info = impl_->cholmod->info();
+  } else {
+    x = impl_->ldlt->solve(rhs);
+    info = impl_->ldlt->info();
+  }
+  if (info != Eigen::Success) {
+    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+                    "): solve failed: " + InfoName(info));
+  }
+  return Status::Ok();
+}
+
+}  // namespace flow_internal
+}  // namespace seep::core

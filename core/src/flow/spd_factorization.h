@@ -1,0 +1,38 @@
+// Internal: one sparse SPD factorization behind a small interface, so the solvers choose CHOLMOD
+// or Eigen's SimplicialLDLT at run time without templates leaking into public headers.
+// Matrices are passed as their lower triangle (column-major, compressed).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+
+#include "seep/core/flow/linear_solver_kind.h"
+#include "seep/core/status.h"
+
+namespace seep::core::flow_internal {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+class SpdFactorization {
+ public:
+  explicit SpdFactorization(LinearSolverKind kind);
+  ~SpdFactorization();
+  SpdFactorization(SpdFactorization&&) noexcept;
+  SpdFactorization& operator=(SpdFactorization&&) noexcept;
+
+  // Symbolic analysis (ordering, elimination tree): once per sparsity pattern.
+  Status Analyze(const SparseMatrix& lower);
+  // Numeric factorization: whenever the values change. Needs a prior Analyze on the same pattern.
+  Status Factorize(const SparseMatrix& lower);
+  Status Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
+
+  LinearSolverKind kind() const { return kind_; }
+
+ private:
+  struct Impl;
+  LinearSolverKind kind_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace seep::core::flow_internal

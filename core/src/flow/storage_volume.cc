@@ -1,0 +1,29 @@
+#include "seep/core/flow/storage_volume.h"
+
+#include <cmath>
+#include <string>
+
+namespace seep::core {
+
+Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
+                                                  const StorageModel& storage) {
+  SEEP_RETURN_IF_ERROR(ValidateStorageModel(storage));
+  const std::size_t n = network.num_domains();
+  std::vector<double> vs(n);
+  const auto role = network.role();
+  for (std::size_t d = 0; d < n; ++d) {
+    vs[d] = StorageVolumeOf(network, storage, d);
+    if (role[d] != DomainRole::kFixedPressure && !(vs[d] > 0.0 && std::isfinite(vs[d]))) {
+      return InvalidArgument(
+          "flow.network." +
+          std::string(storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
+          "[" + std::to_string(d) + "]: storage volume of a non-fixed domain must be > 0 (got " +
+          std::to_string(vs[d]) + " with storage '" +
+          std::string(StorageVolumeName(storage.volume)) +
+          "'); apply a volume floor, merge the domain, or fix its pressure");
+    }
+  }
+  return vs;
+}
+
+}  // namespace seep::core

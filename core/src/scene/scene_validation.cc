@@ -1,0 +1,154 @@
+#include <cmath>
+#include <string>
+
+#include "fmt/format.h"
+#include "seep/core/scene/scene_spec.h"
+
+namespace seep::core {
+namespace {
+
+// Largest packings a scene may generate or carry; a bound keeps a typo from exhausting memory.
+constexpr std::uint64_t kMaxParticles = 20'000'000;
+
+Status RequirePositive(const char* field, double value) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    return InvalidArgument(
+        fmt::format("scene.{}: must be a finite number > 0 (got {})", field, value));
+  }
+  return Status::Ok();
+}
+
+Status RequireNonNegative(const char* field, double value) {
+  if (!std::isfinite(value) || value < 0.0) {
+    return InvalidArgument(
+        fmt::format("scene.{}: must be a finite number >= 0 (got {})", field, value));
+  }
+  return Status::Ok();
+}
+
+Status RequireFinite(const char* field, double value) {
+  if (!std::isfinite(value)) {
+    return InvalidArgument(fmt::format("scene.{}: must be finite (got {})", field, value));
+  }
+  return Status::Ok();
+}
+
+Status ValidateLattice(const LatticePackingSpec& lattice) {
+  if (lattice.columns < 2) {
+    return InvalidArgument(fmt::format(
+        "scene.packing.lattice.columns: needs at least 2 disks to enclose a domain (got {})",
+        lattice.columns));
+  }
+  if (lattice.rows < 2) {
+    return InvalidArgument(fmt::format(
+        "scene.packing.lattice.rows: needs at least 2 disks to enclose a domain (got {})",
+        lattice.rows));
+  }
+  if (std::uint64_t{lattice.columns} * lattice.rows > kMaxParticles) {
+    return InvalidArgument(
+        fmt::format("scene.packing.lattice: {} x {} disks exceed the limit of {}", lattice.columns,
+                    lattice.rows, kMaxParticles));
+  }
+  return RequirePositive("packing.lattice.radius_m", lattice.radius_m);
+}
+
+Status ValidateRandom(const RandomPackingSpec& random) {
+  SEEP_RETURN_IF_ERROR(RequirePositive("packing.random.width_m", random.width_m));
+  SEEP_RETURN_IF_ERROR(RequirePositive("packing.random.height_m", random.height_m));
+  SEEP_RETURN_IF_ERROR(RequirePositive("packing.random.min_radius_m", random.min_radius_m));
+  SEEP_RETURN_IF_ERROR(RequirePositive("packing.random.max_radius_m", random.max_radius_m));
+  if (random.max_radius_m < random.min_radius_m) {
+    return InvalidArgument(
+        fmt::format("scene.packing.random.max_radius_m: must be >= min_radius_m ({} < {})",
+                    random.max_radius_m, random.min_radius_m));
+  }
+  if (!(random.target_porosity > 0.0 && random.target_porosity < 1.0)) {
+    return InvalidArgument(
+        fmt::format("scene.packing.random.target_porosity: must lie in (0, 1) (got {})",
+                    random.target_porosity));
+  }
+  if (random.particle_count < 3 || random.particle_count > kMaxParticles) {
+    return InvalidArgument(
+        fmt::format("scene.packing.random.particle_count: must lie in [3, {}] (got {})",
+                    kMaxParticles, random.particle_count));
+  }
+  return Status::Ok();
+}
+
+Status ValidateParticles(const ParticleListSpec& list) {
+  const std::size_t n = list.x_m.size();
+  if (n < 3) {
+    return InvalidArgument(fmt::format(
+        "scene.packing.particles: needs at least 3 particles to enclose a domain (got {})", n));
+  }
+  if (n > kMaxParticles) {
+    return InvalidArgument(fmt::format(
+        "scene.packing.particles: {} particles exceed the limit of {}", n, kMaxParticles));
+  }
+  if (list.y_m.size() != n || list.radius_m.size() != n) {
+    return InvalidArgument(fmt::format(
+        "scene.packing.particles: x_m, y_m and radius_m must have equal lengths (got {}, {}, {})",
+        n, list.y_m.size(), list.radius_m.size()));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(list.x_m[i]) || !std::isfinite(list.y_m[i])) {
+      return InvalidArgument(
+          fmt::format("scene.packing.particles[{}]: position must be finite (got {}, {})", i,
+                      list.x_m[i], list.y_m[i]));
+    }
+    if (!std::isfinite(list.radius_m[i]) || list.radius_m[i] <= 0.0) {
+      return InvalidArgument(
+          fmt::format("scene.packing.particles[{}].radius_m: must be a finite number > 0 (got {})",
+                      i, list.radius_m[i]));
+    }
+  }
+  return Status::Ok();
+}
+
+struct PackingSourceValidator {
+  Status operator()(const LatticePackingSpec& s) const { return ValidateLattice(s); }
+  Status operator()(const RandomPackingSpec& s) const { return ValidateRandom(s); }
+  Status operator()(const ParticleListSpec& s) const { return ValidateParticles(s); }
+};
+
+}  // namespace
+
+Status ValidateScene(const SceneSpec& scene) {
+  SEEP_RETURN_IF_ERROR(std::visit(PackingSourceValidator{}, scene.packing.source));
+  SEEP_RETURN_IF_ERROR(RequireNonNegative("packing.contact_gap_m", scene.packing.contact_gap_m));
+  SEEP_RETURN_IF_ERROR(RequirePositive("fluid.viscosity_pa_s", scene.fluid.viscosity_pa_s));
+  SEEP_RETURN_IF_ERROR(RequirePositive("fluid.bulk_modulus_pa", scene.fluid.bulk_modulus_pa));
+  SEEP_RETURN_IF_ERROR(
+      RequirePositive("aperture.residual_aperture_m", scene.aperture.residual_aperture_m));
+  SEEP_RETURN_IF_ERROR(
+      RequireNonNegative("aperture.reference_force_n", scene.aperture.reference_force_n));
+  SEEP_RETURN_IF_ERROR(
+      RequireNonNegative("aperture.gap_multiplier", scene.aperture.gap_multiplier));
+  SEEP_RETURN_IF_ERROR(
+      RequireNonNegative("aperture.max_aperture_m", scene.aperture.max_aperture_m));
+  if (scene.aperture.max_aperture_m > 0.0 &&
+      scene.aperture.max_aperture_m < scene.aperture.residual_aperture_m) {
+    return InvalidArgument(fmt::format(
+        "scene.aperture.max_aperture_m: must be 0 (no cap) or >= residual_aperture_m ({} < {})",
+        scene.aperture.max_aperture_m, scene.aperture.residual_aperture_m));
+  }
+  SEEP_RETURN_IF_ERROR(
+      RequireFinite("boundary.inlet_pressure_pa", scene.boundary.inlet_pressure_pa));
+  SEEP_RETURN_IF_ERROR(
+      RequireFinite("boundary.outlet_pressure_pa", scene.boundary.outlet_pressure_pa));
+  SEEP_RETURN_IF_ERROR(
+      RequireFinite("boundary.initial_pressure_pa", scene.boundary.initial_pressure_pa));
+  if (scene.solver.kind != SolverKind::kSteady) {
+    SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
+    SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));
+    if (scene.solver.kind == SolverKind::kExplicit && scene.solver.dt_factor > 1.0) {
+      return InvalidArgument(fmt::format(
+          "scene.solver.dt_factor: the explicit solver is unstable above the critical step; use a "
+          "value in (0, 1] or the implicit solver (got {})",
+          scene.solver.dt_factor));
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace seep::core

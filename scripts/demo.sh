@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# README command 1: install, build, start seepd on loopback with its database in ./seep-data,
+# submit the demo job with the seep CLI, show its progress and result, stop seepd cleanly.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+./scripts/install-deps.sh
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEEP_BUILD_TESTS=OFF \
+  -DSEEP_BUILD_BENCH=OFF >/dev/null
+cmake --build build/release --target seepd seep
+
+data_dir=seep-data
+mkdir -p "$data_dir"
+rm -f "$data_dir/port"
+./build/release/service/seepd --listen 127.0.0.1:0 --data-dir "$data_dir" \
+  --port-file "$data_dir/port" 2>>"$data_dir/seepd.console.log" &
+seepd_pid=$!
+trap 'kill "$seepd_pid" 2>/dev/null || true' EXIT
+for _ in $(seq 100); do [ -s "$data_dir/port" ] && break; sleep 0.1; done
+[ -s "$data_dir/port" ] || { echo "demo: seepd did not start (see $data_dir/seepd.log)" >&2; exit 1; }
+export SEEP_SERVER="127.0.0.1:$(cat "$data_dir/port")"
+echo "== seepd is serving on $SEEP_SERVER (database $data_dir/seep.db)"
+
+seep=./build/release/client/seep
+"$seep" health
+echo "== submitting examples/darcy_square_lattice.textproto"
+"$seep" submit examples/darcy_square_lattice.textproto --watch
+echo "== jobs on this server"
+"$seep" list
+
+kill -TERM "$seepd_pid"
+wait "$seepd_pid"
+trap - EXIT
+echo "== seepd stopped cleanly; its log is $data_dir/seepd.log"

@@ -1,0 +1,56 @@
+#include "job_codec.h"
+
+#include <google/protobuf/util/time_util.h>
+
+namespace seep::service {
+namespace {
+
+void SetTime(std::int64_t ms, google::protobuf::Timestamp* out) {
+  *out = google::protobuf::util::TimeUtil::MillisecondsToTimestamp(ms);
+}
+
+}  // namespace
+
+v1::JobState JobStateToProto(JobState state) {
+  switch (state) {
+    case JobState::kQueued:
+      return v1::JOB_STATE_QUEUED;
+    case JobState::kRunning:
+      return v1::JOB_STATE_RUNNING;
+    case JobState::kSucceeded:
+      return v1::JOB_STATE_SUCCEEDED;
+    case JobState::kFailed:
+      return v1::JOB_STATE_FAILED;
+    case JobState::kCancelled:
+      return v1::JOB_STATE_CANCELLED;
+  }
+  return v1::JOB_STATE_UNSPECIFIED;
+}
+
+void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
+  out->set_id(job.id);
+  out->set_name(job.name);
+  out->set_request_id(job.request_id.value_or(""));
+  out->set_state(JobStateToProto(job.state));
+  if (with_scene) (void)out->mutable_scene()->ParseFromString(job.scene);
+  SetTime(job.created_at_ms, out->mutable_created_at());
+  if (job.started_at_ms) SetTime(*job.started_at_ms, out->mutable_started_at());
+  if (job.finished_at_ms) SetTime(*job.finished_at_ms, out->mutable_finished_at());
+  auto* progress = out->mutable_progress();
+  progress->set_step(job.progress.step);
+  progress->set_time_s(job.progress.time_s);
+  progress->set_fraction_done(job.progress.fraction_done);
+  progress->set_eta_s(job.progress.eta_s);
+  if (!job.error_code.empty()) {
+    out->mutable_error()->set_code(job.error_code);
+    out->mutable_error()->set_message(job.error_message);
+  }
+  if (job.state == JobState::kSucceeded) {
+    auto* result = out->mutable_result();
+    for (const auto& [name, value] : job.metrics) (*result->mutable_metrics())[name] = value;
+    result->set_wall_time_s(job.wall_time_s);
+  }
+  out->set_build_id(job.build_id);
+}
+
+}  // namespace seep::service

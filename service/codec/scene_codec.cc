@@ -1,0 +1,124 @@
+#include "scene_codec.h"
+
+#include <fmt/format.h>
+
+namespace seep::service {
+namespace {
+
+using core::InvalidArgument;
+using core::Result;
+
+Result<core::PackingSource> PackingFromProto(const v1::Packing& packing) {
+  switch (packing.source_case()) {
+    case v1::Packing::kLattice: {
+      const auto& l = packing.lattice();
+      core::LatticePackingSpec spec;
+      switch (l.kind()) {
+        case v1::LATTICE_KIND_SQUARE:
+          spec.kind = core::LatticeKind::kSquare;
+          break;
+        case v1::LATTICE_KIND_HEX:
+          spec.kind = core::LatticeKind::kHex;
+          break;
+        default:
+          return InvalidArgument(
+              fmt::format("scene.packing.lattice.kind: must be LATTICE_KIND_SQUARE or "
+                          "LATTICE_KIND_HEX (got {})",
+                          v1::LatticeKind_Name(l.kind())));
+      }
+      spec.columns = l.columns();
+      spec.rows = l.rows();
+      spec.radius_m = l.radius_m();
+      return core::PackingSource(spec);
+    }
+    case v1::Packing::kRandom: {
+      const auto& r = packing.random();
+      return core::PackingSource(core::RandomPackingSpec{r.seed(), r.width_m(), r.height_m(),
+                                                         r.min_radius_m(), r.max_radius_m(),
+                                                         r.target_porosity(), r.particle_count()});
+    }
+    case v1::Packing::kParticles: {
+      const auto& p = packing.particles();
+      core::ParticleListSpec list;
+      list.x_m.assign(p.x_m().begin(), p.x_m().end());
+      list.y_m.assign(p.y_m().begin(), p.y_m().end());
+      list.radius_m.assign(p.radius_m().begin(), p.radius_m().end());
+      return core::PackingSource(std::move(list));
+    }
+    case v1::Packing::SOURCE_NOT_SET:
+      break;
+  }
+  return InvalidArgument("scene.packing: one of lattice, random or particles is required");
+}
+
+Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
+  core::SolverSpec spec;
+  switch (solver.kind()) {
+    case v1::SOLVER_KIND_STEADY:
+      spec.kind = core::SolverKind::kSteady;
+      break;
+    case v1::SOLVER_KIND_EXPLICIT:
+      spec.kind = core::SolverKind::kExplicit;
+      break;
+    case v1::SOLVER_KIND_IMPLICIT:
+      spec.kind = core::SolverKind::kImplicit;
+      break;
+    default:
+      return InvalidArgument(
+          fmt::format("scene.solver.kind: must be SOLVER_KIND_STEADY, SOLVER_KIND_EXPLICIT or "
+                      "SOLVER_KIND_IMPLICIT (got {})",
+                      v1::SolverKind_Name(solver.kind())));
+  }
+  switch (solver.storage()) {
+    case v1::STORAGE_VOLUME_APPARENT:
+      spec.storage = core::StorageVolumeKind::kApparent;
+      break;
+    case v1::STORAGE_VOLUME_PORE:
+      spec.storage = core::StorageVolumeKind::kPore;
+      break;
+    default:
+      // The steady state does not depend on storage, so only transient solvers need it.
+      if (spec.kind != core::SolverKind::kSteady) {
+        return InvalidArgument(
+            fmt::format("scene.solver.storage: a transient solver needs STORAGE_VOLUME_APPARENT or "
+                        "STORAGE_VOLUME_PORE (got {})",
+                        v1::StorageVolume_Name(solver.storage())));
+      }
+  }
+  spec.dt_factor = solver.dt_factor();
+  spec.end_time_s = solver.end_time_s();
+  spec.progress_every = solver.progress_every();
+  return spec;
+}
+
+}  // namespace
+
+Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
+  core::SceneSpec spec;
+  spec.name = scene.name();
+  SEEP_ASSIGN_OR_RETURN(spec.packing.source, PackingFromProto(scene.packing()));
+  spec.packing.contact_gap_m = scene.packing().contact_gap_m();
+  spec.fluid = {scene.fluid().viscosity_pa_s(), scene.fluid().bulk_modulus_pa()};
+  spec.aperture = {scene.aperture().residual_aperture_m(), scene.aperture().reference_force_n(),
+                   scene.aperture().gap_multiplier(), scene.aperture().max_aperture_m()};
+  switch (scene.boundary().axis()) {
+    case v1::FLOW_AXIS_X:
+      spec.boundary.axis = core::FlowAxis::kX;
+      break;
+    case v1::FLOW_AXIS_Y:
+      spec.boundary.axis = core::FlowAxis::kY;
+      break;
+    default:
+      return InvalidArgument(
+          fmt::format("scene.boundary.axis: must be FLOW_AXIS_X or FLOW_AXIS_Y (got {})",
+                      v1::FlowAxis_Name(scene.boundary().axis())));
+  }
+  spec.boundary.inlet_pressure_pa = scene.boundary().inlet_pressure_pa();
+  spec.boundary.outlet_pressure_pa = scene.boundary().outlet_pressure_pa();
+  spec.boundary.initial_pressure_pa = scene.boundary().initial_pressure_pa();
+  SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver()));
+  SEEP_RETURN_IF_ERROR(core::ValidateScene(spec));
+  return spec;
+}
+
+}  // namespace seep::service

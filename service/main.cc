@@ -1,0 +1,153 @@
+// seepd: the seep job server. Flags, logging sinks, the store, the worker pool and the gRPC
+// server; SIGINT/SIGTERM stop it gracefully (running jobs are left to resume on restart).
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/sinks/rotating_file_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "codec/scene_codec.h"
+#include "jobs/job_hub.h"
+#include "jobs/job_runner.h"
+#include "rpc/seep_service.h"
+#include "seep/core/log.h"
+#include "store/job_store.h"
+
+namespace {
+
+struct Options {
+  std::string listen = "127.0.0.1:50051";
+  std::string data_dir = "seep-data";
+  std::string log_level = "info";
+  std::string port_file;
+  int workers = 1;
+};
+
+std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
+  auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+  auto file = std::make_shared<spdlog::sinks::rotating_file_sink_mt>(
+      (std::filesystem::path(options.data_dir) / "seepd.log").string(), 10 * 1024 * 1024, 5);
+  auto logger = std::make_shared<spdlog::logger>("seepd", spdlog::sinks_init_list{console, file});
+  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %v");
+  logger->set_level(spdlog::level::from_str(options.log_level));
+  logger->flush_on(spdlog::level::info);
+  return logger;
+}
+
+// Written after the port is bound, via rename, so a reader never sees a partial number.
+bool WritePortFile(const std::string& path, int port) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << port << "\n";
+    if (!out.flush()) return false;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  return !ec;
+}
+
+int Run(const Options& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(options.data_dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "seepd: --data-dir %s: cannot create: %s\n", options.data_dir.c_str(),
+                 ec.message().c_str());
+    return 2;
+  }
+  auto logger = MakeLogger(options);
+  seep::core::SetLogger(logger->clone("core"));
+
+  // Signals are taken by one thread with sigwait; every other thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  const std::string db_path = (std::filesystem::path(options.data_dir) / "seep.db").string();
+  auto store = seep::service::JobStore::Open(db_path);
+  if (!store.ok()) {
+    logger->critical("cannot open the job store {}: {}", db_path, store.status().ToString());
+    return 1;
+  }
+  if (auto requeued = (*store)->RequeueRunning(); !requeued.ok()) {
+    logger->critical("recovery failed: {}", requeued.status().ToString());
+    return 1;
+  } else if (*requeued > 0) {
+    logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
+  }
+
+  seep::service::JobHub hub;
+  seep::service::JobRunner runner(**store, hub, {options.workers, SEEP_BUILD_ID, {}}, logger);
+  seep::service::SeepServiceImpl service(
+      **store, hub, SEEP_BUILD_ID, [&] { runner.Wake(); }, logger);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port);
+  builder.SetMaxReceiveMessageSize(static_cast<int>(seep::service::kMaxSceneBytes + (1u << 20)));
+  builder.RegisterService(&service);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || port == 0) {
+    logger->critical("cannot listen on {} (--listen)", options.listen);
+    return 1;
+  }
+  server->GetHealthCheckService()->SetServingStatus(true);
+  logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s)", SEEP_BUILD_ID,
+               options.listen, port, options.data_dir, options.workers);
+  if (!options.port_file.empty() && !WritePortFile(options.port_file, port)) {
+    logger->critical("cannot write --port-file {}", options.port_file);
+    return 1;
+  }
+  runner.Start();
+
+  std::thread signal_waiter([&] {
+    int sig = 0;
+    sigwait(&signals, &sig);
+    logger->info("signal {} received: shutting down", sig);
+    server->GetHealthCheckService()->SetServingStatus(false);
+    hub.Close();
+    runner.Stop();
+    server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  });
+  server->Wait();
+  signal_waiter.join();
+  logger->info("seepd stopped");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  CLI::App app{"seepd: the seep seepage-simulation job server"};
+  app.add_option("--listen", options.listen, "address:port to serve on (port 0 picks a free one)")
+      ->capture_default_str();
+  app.add_option("--data-dir", options.data_dir, "folder for the SQLite database and logs")
+      ->capture_default_str();
+  app.add_option("--workers", options.workers, "jobs run at the same time")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
+  app.add_option("--port-file", options.port_file,
+                 "write the bound port to this file once serving (for scripts and tests)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return Run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "seepd: fatal: %s\n", e.what());
+    return 1;
+  }
+}

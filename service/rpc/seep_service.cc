@@ -1,0 +1,170 @@
+#include "rpc/seep_service.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <exception>
+#include <random>
+
+#include "codec/job_codec.h"
+#include "codec/scene_codec.h"
+#include "rpc/status_mapping.h"
+
+namespace seep::service {
+namespace {
+
+constexpr std::uint32_t kDefaultPageSize = 50;
+constexpr std::uint32_t kMaxPageSize = 1000;
+constexpr std::size_t kMaxRequestIdLength = 200;
+
+std::int64_t NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Job ids are random, not sequential, so that two servers' ids never collide when records are
+// merged; 64 bits of entropy.
+std::string NewJobId() {
+  thread_local std::mt19937_64 rng{std::random_device{}()};
+  return fmt::format("j-{:016x}", rng());
+}
+
+// Every handler body runs inside this: no exception escapes into gRPC.
+template <typename Fn>
+grpc::Status Guarded(const std::shared_ptr<spdlog::logger>& logger, const char* rpc, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const std::exception& e) {
+    logger->error("{}: unexpected exception: {}", rpc, e.what());
+    return {grpc::StatusCode::INTERNAL, fmt::format("{}: internal error", rpc)};
+  }
+}
+
+}  // namespace
+
+SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id,
+                                 std::function<void()> on_submitted,
+                                 std::shared_ptr<spdlog::logger> logger)
+    : store_(store),
+      hub_(hub),
+      build_id_(std::move(build_id)),
+      on_submitted_(std::move(on_submitted)),
+      logger_(std::move(logger)) {}
+
+core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
+  SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Get(id));
+  if (job.state == JobState::kRunning) {
+    if (auto live = hub_.Live(id)) job.progress = *live;
+  }
+  return job;
+}
+
+grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* /*ctx*/,
+                                        const v1::SubmitJobRequest* req,
+                                        v1::SubmitJobResponse* resp) {
+  return Guarded(logger_, "SubmitJob", [&]() -> grpc::Status {
+    if (!req->has_scene()) {
+      return {grpc::StatusCode::INVALID_ARGUMENT, "scene: is required"};
+    }
+    if (req->request_id().size() > kMaxRequestIdLength) {
+      return {grpc::StatusCode::INVALID_ARGUMENT,
+              fmt::format("request_id: at most {} characters", kMaxRequestIdLength)};
+    }
+    // Validate fully before anything is stored: a bad scene leaves no trace.
+    if (auto spec = SceneFromProto(req->scene()); !spec.ok()) {
+      return ToGrpcStatus(spec.status());
+    }
+    JobRecord job;
+    job.id = NewJobId();
+    job.name = req->scene().name().empty() ? job.id : req->scene().name();
+    if (!req->request_id().empty()) job.request_id = req->request_id();
+    if (!req->scene().SerializeToString(&job.scene)) {
+      return {grpc::StatusCode::INTERNAL, "scene: could not serialize"};
+    }
+    if (job.scene.size() > kMaxSceneBytes) {
+      return {
+          grpc::StatusCode::INVALID_ARGUMENT,
+          fmt::format("scene: {} bytes exceed the limit of {}", job.scene.size(), kMaxSceneBytes)};
+    }
+    job.build_id = build_id_;
+    job.created_at_ms = NowMs();
+    auto outcome = store_.Insert(job);
+    if (!outcome.ok()) return ToGrpcStatus(outcome.status());
+    if (outcome->created) {
+      logger_->info("job {} submitted ('{}')", outcome->job.id, outcome->job.name);
+      hub_.NotifyChanged();
+      if (on_submitted_) on_submitted_();
+    }
+    auto current = LoadJob(outcome->job.id);
+    if (!current.ok()) return ToGrpcStatus(current.status());
+    JobToProto(*current, /*with_scene=*/true, resp->mutable_job());
+    resp->set_created(outcome->created);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* /*ctx*/, const v1::GetJobRequest* req,
+                                     v1::GetJobResponse* resp) {
+  return Guarded(logger_, "GetJob", [&]() -> grpc::Status {
+    if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
+    auto job = LoadJob(req->id());
+    if (!job.ok()) return ToGrpcStatus(job.status());
+    JobToProto(*job, /*with_scene=*/true, resp->mutable_job());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* /*ctx*/, const v1::ListJobsRequest* req,
+                                       v1::ListJobsResponse* resp) {
+  return Guarded(logger_, "ListJobs", [&]() -> grpc::Status {
+    const std::uint32_t limit =
+        req->page_size() == 0 ? kDefaultPageSize : std::min(req->page_size(), kMaxPageSize);
+    std::optional<std::int64_t> cursor;
+    if (!req->page_token().empty()) {
+      try {
+        std::size_t used = 0;
+        cursor = std::stoll(req->page_token(), &used);
+        if (used != req->page_token().size() || *cursor <= 0) throw std::invalid_argument("");
+      } catch (const std::exception&) {
+        return {grpc::StatusCode::INVALID_ARGUMENT, "page_token: not a token returned by ListJobs"};
+      }
+    }
+    auto page = store_.List(limit, cursor);
+    if (!page.ok()) return ToGrpcStatus(page.status());
+    for (JobRecord& job : page->jobs) {
+      if (job.state == JobState::kRunning) {
+        if (auto live = hub_.Live(job.id)) job.progress = *live;
+      }
+      JobToProto(job, /*with_scene=*/false, resp->add_jobs());
+    }
+    if (page->next_cursor) resp->set_next_page_token(std::to_string(*page->next_cursor));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
+                                       grpc::ServerWriter<v1::JobEvent>* writer) {
+  return Guarded(logger_, "WatchJob", [&]() -> grpc::Status {
+    if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
+    std::string last_sent;
+    for (;;) {
+      const std::uint64_t version = hub_.version();
+      auto job = LoadJob(req->id());
+      if (!job.ok()) return ToGrpcStatus(job.status());
+      v1::JobEvent event;
+      JobToProto(*job, /*with_scene=*/false, event.mutable_job());
+      std::string bytes = event.SerializeAsString();
+      if (bytes != last_sent) {
+        if (!writer->Write(event)) return {grpc::StatusCode::CANCELLED, "watcher went away"};
+        last_sent = std::move(bytes);
+      }
+      if (IsTerminal(job->state)) return grpc::Status::OK;
+      if (ctx->IsCancelled()) return {grpc::StatusCode::CANCELLED, "watch cancelled"};
+      if (hub_.closed()) return {grpc::StatusCode::UNAVAILABLE, "seepd is shutting down"};
+      hub_.WaitForChange(version, std::chrono::seconds(1));
+    }
+  });
+}
+
+}  // namespace seep::service

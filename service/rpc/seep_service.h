@@ -1,0 +1,45 @@
+// SeepServiceImpl: seep.v1.SeepService on gRPC's synchronous API.
+//
+// Handlers decode, call the store or the hub, encode: they never run physics. The synchronous
+// API is enough here (a handful of clients, one long stream per watcher); WatchJob waits on the
+// hub with a timeout so that cancelled streams and shutdown are noticed within a second.
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "jobs/job_hub.h"
+#include "seep/v1/job_service.grpc.pb.h"
+#include "store/job_store.h"
+
+namespace seep::service {
+
+class SeepServiceImpl final : public v1::SeepService::Service {
+ public:
+  SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id,
+                  std::function<void()> on_submitted, std::shared_ptr<spdlog::logger> logger);
+
+  grpc::Status SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
+                         v1::SubmitJobResponse* resp) override;
+  grpc::Status GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
+                      v1::GetJobResponse* resp) override;
+  grpc::Status ListJobs(grpc::ServerContext* ctx, const v1::ListJobsRequest* req,
+                        v1::ListJobsResponse* resp) override;
+  grpc::Status WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
+                        grpc::ServerWriter<v1::JobEvent>* writer) override;
+
+ private:
+  // The stored job with the hub's live progress laid over it.
+  core::Result<JobRecord> LoadJob(const std::string& id);
+
+  JobStore& store_;
+  JobHub& hub_;
+  std::string build_id_;
+  std::function<void()> on_submitted_;
+  std::shared_ptr<spdlog::logger> logger_;
+};
+
+}  // namespace seep::service

@@ -1,0 +1,131 @@
+#include "sqlite_handle.h"
+
+#include <fmt/format.h>
+
+namespace seep::service {
+namespace {
+
+Status SqliteError(sqlite3* db, int rc, std::string_view what) {
+  const char* detail = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  const auto code = (rc == SQLITE_BUSY || rc == SQLITE_LOCKED)      ? core::StatusCode::kUnavailable
+                    : (rc == SQLITE_CORRUPT || rc == SQLITE_NOTADB) ? core::StatusCode::kDataLoss
+                                                                    : core::StatusCode::kInternal;
+  return {code, fmt::format("store: {}: {} (sqlite code {})", what, detail, rc)};
+}
+
+}  // namespace
+
+Stmt& Stmt::Bind(int index, std::int64_t value) {
+  if (bind_error_ == SQLITE_OK) bind_error_ = sqlite3_bind_int64(stmt_.get(), index, value);
+  return *this;
+}
+Stmt& Stmt::Bind(int index, double value) {
+  if (bind_error_ == SQLITE_OK) bind_error_ = sqlite3_bind_double(stmt_.get(), index, value);
+  return *this;
+}
+Stmt& Stmt::Bind(int index, std::string_view text) {
+  if (bind_error_ == SQLITE_OK) {
+    bind_error_ = sqlite3_bind_text64(stmt_.get(), index, text.data(), text.size(),
+                                      SQLITE_TRANSIENT, SQLITE_UTF8);
+  }
+  return *this;
+}
+Stmt& Stmt::BindBlob(int index, std::string_view bytes) {
+  if (bind_error_ == SQLITE_OK) {
+    bind_error_ =
+        sqlite3_bind_blob64(stmt_.get(), index, bytes.data(), bytes.size(), SQLITE_TRANSIENT);
+  }
+  return *this;
+}
+Stmt& Stmt::BindNull(int index) {
+  if (bind_error_ == SQLITE_OK) bind_error_ = sqlite3_bind_null(stmt_.get(), index);
+  return *this;
+}
+Stmt& Stmt::Bind(int index, const std::optional<std::string>& text) {
+  return text ? Bind(index, std::string_view(*text)) : BindNull(index);
+}
+
+void Stmt::Reset() {
+  sqlite3_reset(stmt_.get());
+  sqlite3_clear_bindings(stmt_.get());
+  bind_error_ = SQLITE_OK;
+}
+
+Result<bool> Stmt::Step() {
+  if (bind_error_ != SQLITE_OK) return SqliteError(db_, bind_error_, "bind");
+  const int rc = sqlite3_step(stmt_.get());
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  return SqliteError(db_, rc, sqlite3_sql(stmt_.get()));
+}
+
+Status Stmt::Run() {
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, Step());
+    if (!row) return Status::Ok();
+  }
+}
+
+std::int64_t Stmt::ColumnInt(int col) const { return sqlite3_column_int64(stmt_.get(), col); }
+double Stmt::ColumnDouble(int col) const { return sqlite3_column_double(stmt_.get(), col); }
+std::string Stmt::ColumnText(int col) const {
+  const auto* text = sqlite3_column_text(stmt_.get(), col);
+  if (text == nullptr) return {};
+  return {reinterpret_cast<const char*>(text),
+          static_cast<std::size_t>(sqlite3_column_bytes(stmt_.get(), col))};
+}
+std::string Stmt::ColumnBlob(int col) const {
+  const void* blob = sqlite3_column_blob(stmt_.get(), col);
+  if (blob == nullptr) return {};
+  return {static_cast<const char*>(blob),
+          static_cast<std::size_t>(sqlite3_column_bytes(stmt_.get(), col))};
+}
+bool Stmt::ColumnIsNull(int col) const {
+  return sqlite3_column_type(stmt_.get(), col) == SQLITE_NULL;
+}
+
+Result<Db> Db::Open(const std::string& path) {
+  sqlite3* raw = nullptr;
+  const int rc =
+      sqlite3_open_v2(path.c_str(), &raw,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  Db db(raw);  // owns the handle even when opening failed
+  if (rc != SQLITE_OK) return SqliteError(raw, rc, "open " + path);
+  sqlite3_extended_result_codes(raw, 1);
+  return db;
+}
+
+Result<Stmt> Db::Prepare(std::string_view sql) {
+  sqlite3_stmt* raw = nullptr;
+  const int rc =
+      sqlite3_prepare_v2(db_.get(), sql.data(), static_cast<int>(sql.size()), &raw, nullptr);
+  if (rc != SQLITE_OK) {
+    sqlite3_finalize(raw);
+    return SqliteError(db_.get(), rc, "prepare");
+  }
+  return Stmt(db_.get(), raw);
+}
+
+Status Db::Exec(const std::string& sql) {
+  const int rc = sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr);
+  if (rc != SQLITE_OK) return SqliteError(db_.get(), rc, "exec");
+  return Status::Ok();
+}
+
+Result<WriteTx> WriteTx::Begin(Db& db) {
+  SEEP_RETURN_IF_ERROR(db.Exec("BEGIN IMMEDIATE"));
+  return WriteTx(&db);
+}
+
+WriteTx::~WriteTx() {
+  if (db_ != nullptr) (void)db_->Exec("ROLLBACK");
+}
+
+Status WriteTx::Commit() {
+  if (db_ == nullptr) return core::Internal("store: transaction already finished");
+  Status s = db_->Exec("COMMIT");
+  if (s.ok()) db_ = nullptr;
+  return s;
+}
+
+}  // namespace seep::service

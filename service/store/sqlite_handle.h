@@ -1,0 +1,88 @@
+// RAII around the SQLite C API: a connection (Db), a prepared statement (Stmt) and an immediate
+// write transaction (WriteTx). Errors come back as Status; destructors never throw.
+#pragma once
+
+#include <sqlite3.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "seep/core/status.h"
+
+namespace seep::service {
+
+using core::Result;
+using core::Status;
+
+class Stmt {
+ public:
+  // Binds are 1-based, as in SQLite.
+  Stmt& Bind(int index, std::int64_t value);
+  Stmt& Bind(int index, double value);
+  Stmt& Bind(int index, std::string_view text);
+  Stmt& BindBlob(int index, std::string_view bytes);
+  Stmt& BindNull(int index);
+  Stmt& Bind(int index, const std::optional<std::string>& text);
+
+  // Makes the statement ready to run again with new bindings.
+  void Reset();
+  // Advances to the next row: true when a row is available, false when done.
+  Result<bool> Step();
+  // Runs a statement that returns no rows to completion.
+  Status Run();
+
+  std::int64_t ColumnInt(int col) const;
+  double ColumnDouble(int col) const;
+  std::string ColumnText(int col) const;
+  std::string ColumnBlob(int col) const;
+  bool ColumnIsNull(int col) const;
+
+ private:
+  friend class Db;
+  struct Finalizer {
+    void operator()(sqlite3_stmt* s) const noexcept { sqlite3_finalize(s); }
+  };
+  Stmt(sqlite3* db, sqlite3_stmt* stmt) : db_(db), stmt_(stmt) {}
+
+  sqlite3* db_;
+  std::unique_ptr<sqlite3_stmt, Finalizer> stmt_;
+  int bind_error_ = SQLITE_OK;
+};
+
+class Db {
+ public:
+  static Result<Db> Open(const std::string& path);
+
+  Result<Stmt> Prepare(std::string_view sql);
+  // Runs one or more statements without parameters.
+  Status Exec(const std::string& sql);
+  std::int64_t Changes() const { return sqlite3_changes64(db_.get()); }
+
+ private:
+  struct Closer {
+    void operator()(sqlite3* db) const noexcept { sqlite3_close_v2(db); }
+  };
+  explicit Db(sqlite3* db) : db_(db) {}
+
+  std::unique_ptr<sqlite3, Closer> db_;
+};
+
+// BEGIN IMMEDIATE … COMMIT; rolls back in the destructor unless Commit() succeeded.
+class WriteTx {
+ public:
+  static Result<WriteTx> Begin(Db& db);
+  WriteTx(WriteTx&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
+  WriteTx& operator=(WriteTx&&) = delete;
+  WriteTx(const WriteTx&) = delete;
+  ~WriteTx();
+  Status Commit();
+
+ private:
+  explicit WriteTx(Db* db) : db_(db) {}
+  Db* db_;
+};
+
+}  // namespace seep::service
