@@ -33,9 +33,26 @@ Result<core::PackingSource> PackingFromProto(const v1::Packing& packing) {
     }
     case v1::Packing::kRandom: {
       const auto& r = packing.random();
-      return core::PackingSource(core::RandomPackingSpec{r.seed(), r.width_m(), r.height_m(),
-                                                         r.min_radius_m(), r.max_radius_m(),
-                                                         r.target_porosity(), r.particle_count()});
+      core::RandomPackingSpec spec;
+      spec.seed = r.seed();
+      spec.width_m = r.width_m();
+      spec.height_m = r.height_m();
+      spec.min_radius_m = r.min_radius_m();
+      spec.max_radius_m = r.max_radius_m();
+      spec.particle_count = r.particle_count();
+      switch (r.target_case()) {
+        case v1::RandomPacking::kTargetPorosity:
+          spec.target_porosity = r.target_porosity();
+          break;
+        case v1::RandomPacking::kTargetCoordination:
+          spec.target_coordination = r.target_coordination();
+          break;
+        case v1::RandomPacking::TARGET_NOT_SET:
+          return InvalidArgument(
+              "scene.packing.random.target: one of target_porosity or target_coordination is "
+              "required");
+      }
+      return core::PackingSource(spec);
     }
     case v1::Packing::kParticles: {
       const auto& p = packing.particles();

@@ -54,30 +54,46 @@ class DomainLocator {
   // Smallest domain (by its polygon area) containing the point, skipping domains of
   // `skip_component`; -1 if none.
   std::int32_t Locate(double px, double py, std::int32_t skip_component) {
-    if (!built_) Build();
     if (net_.num_domains() == 0) return -1;
+    if (!boxes_built_) BuildBoxes();
     if (px < x0_ || px > x1_ || py < y0_ || py > y1_) return -1;
-    const std::size_t c = Cell(CellX(px), CellY(py));
+    // A few queries (the common case: a handful of rattlers) scan the boxes; many build a grid.
+    if (++queries_ > kScanQueries && !grid_built_) BuildGrid();
     std::int32_t best = -1;
-    for (std::int32_t k = grid_start_[c]; k < grid_start_[c + 1]; ++k) {
-      const std::size_t d = static_cast<std::size_t>(grid_items_[static_cast<std::size_t>(k)]);
-      if (px < box_[4 * d] || py < box_[4 * d + 1] || px > box_[4 * d + 2] ||
-          py > box_[4 * d + 3]) {
-        continue;
+    if (grid_built_) {
+      const std::size_t c = Cell(CellX(px), CellY(py));
+      for (std::int32_t k = grid_start_[c]; k < grid_start_[c + 1]; ++k) {
+        Consider(static_cast<std::size_t>(grid_items_[static_cast<std::size_t>(k)]), px, py,
+                 skip_component, &best);
       }
-      const std::size_t first = static_cast<std::size_t>(
-          net_.loop_particles[static_cast<std::size_t>(net_.loop_offsets[d])]);
-      if (component_[first] == skip_component) continue;
-      if (!LoopContains(net_, packing_, d, px, py)) continue;
-      if (best < 0 ||
-          net_.apparent_volume[d] < net_.apparent_volume[static_cast<std::size_t>(best)]) {
-        best = static_cast<std::int32_t>(d);
+    } else {
+      for (std::size_t d = 0; d < net_.num_domains(); ++d) {
+        Consider(d, px, py, skip_component, &best);
       }
     }
     return best;
   }
 
  private:
+  static constexpr int kScanQueries = 16;
+
+  // Candidates are visited in ascending id in both modes and ties keep the first, so the grid and
+  // the scan return the same domain.
+  void Consider(std::size_t d, double px, double py, std::int32_t skip_component,
+                std::int32_t* best) const {
+    if (px < box_[4 * d] || py < box_[4 * d + 1] || px > box_[4 * d + 2] || py > box_[4 * d + 3]) {
+      return;
+    }
+    const std::size_t first = static_cast<std::size_t>(
+        net_.loop_particles[static_cast<std::size_t>(net_.loop_offsets[d])]);
+    if (component_[first] == skip_component) return;
+    if (!LoopContains(net_, packing_, d, px, py)) return;
+    if (*best < 0 ||
+        net_.apparent_volume[d] < net_.apparent_volume[static_cast<std::size_t>(*best)]) {
+      *best = static_cast<std::int32_t>(d);
+    }
+  }
+
   std::int32_t CellX(double v) const {
     return std::clamp(static_cast<std::int32_t>((v - x0_) * inv_cell_), 0, nx_ - 1);
   }
@@ -89,10 +105,9 @@ class DomainLocator {
            static_cast<std::size_t>(gx);
   }
 
-  void Build() {
-    built_ = true;
+  void BuildBoxes() {
+    boxes_built_ = true;
     const std::size_t num_domains = net_.num_domains();
-    if (num_domains == 0) return;
     const double* x = packing_.x.data();
     const double* y = packing_.y.data();
     box_.resize(4 * num_domains);
@@ -117,6 +132,11 @@ class DomainLocator {
       x1_ = std::max(x1_, bx1);
       y1_ = std::max(y1_, by1);
     }
+  }
+
+  void BuildGrid() {
+    grid_built_ = true;
+    const std::size_t num_domains = net_.num_domains();
     // About one cell per domain, never many more cells than domains.
     const double span_x = std::max(x1_ - x0_, 1e-300);
     const double span_y = std::max(y1_ - y0_, 1e-300);
@@ -160,7 +180,9 @@ class DomainLocator {
   std::vector<std::int32_t>& grid_items_;
   std::vector<double>& box_;
   std::vector<std::int32_t>& cursor_;
-  bool built_ = false;
+  bool boxes_built_ = false;
+  bool grid_built_ = false;
+  int queries_ = 0;
   double x0_ = 0.0, y0_ = 0.0, x1_ = 0.0, y1_ = 0.0, inv_cell_ = 1.0;
   std::int32_t nx_ = 1, ny_ = 1;
 };

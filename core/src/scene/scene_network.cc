@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "seep/core/geometry/random_packing.h"
+
 namespace seep::core {
 namespace {
 
@@ -20,8 +22,23 @@ struct PackingBuilder {
     return s.kind == LatticeKind::kSquare ? SquareLattice(nx, ny, s.radius_m)
                                           : HexLattice(nx, ny, s.radius_m);
   }
-  Result<Packing> operator()(const RandomPackingSpec& /*s*/) const {
-    return FailedPrecondition("scene.packing.random: random packings are not built yet");
+  Result<Packing> operator()(const RandomPackingSpec& s) const {
+    RandomPackingOptions options;
+    options.count = static_cast<std::int32_t>(s.particle_count);
+    options.radius_min = s.min_radius_m;
+    options.radius_max = s.max_radius_m;
+    options.width = s.width_m;
+    options.height = s.height_m;
+    options.seed = s.seed;
+    if (s.target_porosity > 0.0) {
+      options.target = RandomPackingOptions::Target::kPorosity;
+      options.porosity = s.target_porosity;
+    } else {
+      options.target = RandomPackingOptions::Target::kCoordination;
+      options.coordination = s.target_coordination;
+    }
+    SEEP_ASSIGN_OR_RETURN(RandomPacking random, GenerateRandomPacking(options));
+    return std::move(random.packing);
   }
   Result<Packing> operator()(const ParticleListSpec& s) const {
     Packing p;

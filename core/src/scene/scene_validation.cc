@@ -62,10 +62,21 @@ Status ValidateRandom(const RandomPackingSpec& random) {
         fmt::format("scene.packing.random.max_radius_m: must be >= min_radius_m ({} < {})",
                     random.max_radius_m, random.min_radius_m));
   }
-  if (!(random.target_porosity > 0.0 && random.target_porosity < 1.0)) {
+  const bool by_porosity = random.target_porosity != 0.0;
+  const bool by_coordination = random.target_coordination != 0.0;
+  if (by_porosity == by_coordination) {
+    return InvalidArgument(
+        "scene.packing.random.target: set exactly one of target_porosity and target_coordination");
+  }
+  if (by_porosity && !(random.target_porosity > 0.0 && random.target_porosity < 1.0)) {
     return InvalidArgument(
         fmt::format("scene.packing.random.target_porosity: must lie in (0, 1) (got {})",
                     random.target_porosity));
+  }
+  if (by_coordination && !(random.target_coordination > 0.0 && random.target_coordination < 6.0)) {
+    return InvalidArgument(
+        fmt::format("scene.packing.random.target_coordination: must lie in (0, 6) (got {})",
+                    random.target_coordination));
   }
   if (random.particle_count < 3 || random.particle_count > kMaxParticles) {
     return InvalidArgument(

@@ -57,6 +57,33 @@ TEST(DomainRobustness, RattlerAndOutwardChainArePruned) {
   for (std::size_t d = 1; d < 4; ++d) EXPECT_NEAR(net.pore_volume[d], (4 - kPi) * R * R, 1e-12);
 }
 
+TEST(DomainRobustness, ManyFreeRattlersAreLocated) {
+  // One rattler in each of 81 square holes: enough queries to switch point location from a scan
+  // to the grid. Radii vary so that a rattler given to the wrong domain is noticed.
+  const int n = 10;
+  const double R = 1.0;
+  Packing p = SquareLattice(n, n, R).value();
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 1 < n; ++i)
+      p.Add((2 * i + 2) * R, (2 * j + 2) * R, 0.1 + 0.003 * (j * n + i));
+  }
+  const DomainNetwork net = Detect(p, 1e-9);
+  ASSERT_EQ(net.num_domains(), 81u);
+  EXPECT_EQ(net.num_pruned_particles, 81);
+  for (std::size_t d = 0; d < net.num_domains(); ++d) {
+    // The rattler of a domain sits at its centroid.
+    double rattler = 0.0;
+    for (std::size_t k = static_cast<std::size_t>(n * n); k < p.size(); ++k) {
+      if (std::abs(p.x[k] - net.centroid_x[d]) < 1e-9 &&
+          std::abs(p.y[k] - net.centroid_y[d]) < 1e-9) {
+        rattler = p.radius[k];
+      }
+    }
+    ASSERT_GT(rattler, 0.0) << "domain " << d;
+    EXPECT_NEAR(net.pore_volume[d], (4 - kPi) * R * R - kPi * rattler * rattler, 1e-12);
+  }
+}
+
 TEST(DomainRobustness, InwardDanglingChainIsSubtractedFromItsFace) {
   const int n = 12;
   const double R = 1.0;

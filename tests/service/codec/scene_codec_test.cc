@@ -136,6 +136,16 @@ INSTANTIATE_TEST_SUITE_P(
                    r->set_target_porosity(0.2);
                  },
                  "scene.packing.random.max_radius_m:"},
+        BadScene{"RandomWithoutTarget",
+                 [](v1::Scene& s) {
+                   auto* r = s.mutable_packing()->mutable_random();
+                   r->set_width_m(1);
+                   r->set_height_m(1);
+                   r->set_min_radius_m(0.01);
+                   r->set_max_radius_m(0.02);
+                   r->set_particle_count(100);
+                 },
+                 "scene.packing.random.target:"},
         BadScene{"NegativeContactGap",
                  [](v1::Scene& s) { s.mutable_packing()->set_contact_gap_m(-1); },
                  "scene.packing.contact_gap_m:"},

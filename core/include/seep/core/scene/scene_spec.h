@@ -29,8 +29,11 @@ struct RandomPackingSpec {
   double height_m = 0.0;
   double min_radius_m = 0.0;
   double max_radius_m = 0.0;
-  double target_porosity = 0.0;
   std::uint32_t particle_count = 0;
+  // Exactly one target is > 0: the radii grow until the box porosity falls to target_porosity,
+  // or until the mean number of contacts per particle reaches target_coordination.
+  double target_porosity = 0.0;
+  double target_coordination = 0.0;
 };
 
 struct ParticleListSpec {
