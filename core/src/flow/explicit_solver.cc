@@ -7,17 +7,10 @@
 
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/log.h"
-
+#include "step_input.h"
 namespace seep::core {
 
 namespace {
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 // q = C (P_b - P_a) flows from b into a. Storage order, so a locality-ordered network streams.
 void AccumulatePipeFlows(std::size_t num_pipes, const std::int32_t* __restrict a,
@@ -96,12 +89,12 @@ Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* 
 Result<ExplicitSolver> ExplicitSolver::Create(const ExplicitSolverOptions& options) {
   if (!(std::isfinite(options.bulk_modulus) && options.bulk_modulus > 0.0)) {
     return InvalidArgument("flow.explicit.bulk_modulus: must be finite and > 0 (got " +
-                           Num(options.bulk_modulus) + ")");
+                           flow_internal::FormatNumber(options.bulk_modulus) + ")");
   }
   SEEP_RETURN_IF_ERROR(ValidateStorageModel(options.storage));
   if (!(options.safety_factor > 0.0 && options.safety_factor <= 1.0)) {
     return InvalidArgument("flow.explicit.safety_factor: must be in (0, 1] (got " +
-                           Num(options.safety_factor) + ")");
+                           flow_internal::FormatNumber(options.safety_factor) + ")");
   }
   return ExplicitSolver(options);
 }
@@ -145,23 +138,9 @@ Result<CriticalTimeStep> ExplicitSolver::CriticalStep(const FlowNetwork& network
 
 Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
                                             std::span<const double> volume_change) {
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return InvalidArgument("flow.explicit.dt: must be finite and > 0 (got " + Num(dt) + ")");
-  }
   const std::size_t n = network.num_domains();
-  if (!volume_change.empty() && volume_change.size() != n) {
-    return InvalidArgument("flow.explicit.volume_change: has " +
-                           std::to_string(volume_change.size()) + " entries, expected " +
-                           std::to_string(n) + " (one per domain, or none)");
-  }
-  if (options_.diagnostics) {
-    for (std::size_t d = 0; d < volume_change.size(); ++d) {
-      if (!std::isfinite(volume_change[d])) {
-        return InvalidArgument("flow.explicit.volume_change[" + std::to_string(d) +
-                               "]: must be finite (got " + Num(volume_change[d]) + ")");
-      }
-    }
-  }
+  SEEP_RETURN_IF_ERROR(
+      flow_internal::CheckStepInput("explicit", dt, n, volume_change, options_.diagnostics));
   SEEP_RETURN_IF_ERROR(Prepare(network));
 
   FlowStepReport report;
@@ -174,11 +153,12 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
     switch (options_.policy) {
       case StepLimitPolicy::kRefuse:
         return FailedPrecondition(
-            "flow.explicit: dt = " + Num(dt) + " s exceeds safety_factor * dt_crit = " +
-            Num(allowed) + " s (dt_crit = V_s/(K_f sum C) = " + Num(limit_.dt_crit) +
+            "flow.explicit: dt = " + flow_internal::FormatNumber(dt) +
+            " s exceeds safety_factor * dt_crit = " + flow_internal::FormatNumber(allowed) +
+            " s (dt_crit = V_s/(K_f sum C) = " + flow_internal::FormatNumber(limit_.dt_crit) +
             " s at domain " + std::to_string(limit_.limiting_domain) +
-            ": V_s = " + Num(limit_.limiting_storage_volume) +
-            " m^2, sum C = " + Num(limit_.limiting_conductance_sum) +
+            ": V_s = " + flow_internal::FormatNumber(limit_.limiting_storage_volume) +
+            " m^2, sum C = " + flow_internal::FormatNumber(limit_.limiting_conductance_sum) +
             " m^2/(Pa s)); the explicit update would be unstable. Reduce dt (or use policy "
             "kReduce to sub-step), switch to the implicit solver, raise the storage volume "
             "(storage factor or volume floor), cap the aperture, or lower K_f");
@@ -240,7 +220,8 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   if (options_.diagnostics &&
       !(std::isfinite(report.min_pressure) && std::isfinite(report.max_pressure))) {
     return FailedPrecondition("flow.explicit: pressure became non-finite (min " +
-                              Num(report.min_pressure) + ", max " + Num(report.max_pressure) +
+                              flow_internal::FormatNumber(report.min_pressure) + ", max " +
+                              flow_internal::FormatNumber(report.max_pressure) +
                               " Pa); check dt against dt_crit and the dV input");
   }
   return report;
@@ -249,8 +230,8 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
 Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double duration,
                                                   std::span<const double> volume_change) {
   if (!(std::isfinite(duration) && duration > 0.0)) {
-    return InvalidArgument("flow.explicit.duration: must be finite and > 0 (got " + Num(duration) +
-                           ")");
+    return InvalidArgument("flow.explicit.duration: must be finite and > 0 (got " +
+                           flow_internal::FormatNumber(duration) + ")");
   }
   if (!volume_change.empty() && volume_change.size() != network.num_domains()) {
     return InvalidArgument("flow.explicit.volume_change: has " +
@@ -261,9 +242,10 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
   const double allowed = options_.safety_factor * limit_.dt_crit;
   const double n = std::isfinite(allowed) ? std::ceil(duration / allowed) : 1.0;
   if (n > 1e12) {
-    return FailedPrecondition("flow.explicit: advancing " + Num(duration) + " s needs " + Num(n) +
-                              " sub-steps of dt_crit = " + Num(limit_.dt_crit) +
-                              " s; use the implicit solver");
+    return FailedPrecondition(
+        "flow.explicit: advancing " + flow_internal::FormatNumber(duration) + " s needs " +
+        flow_internal::FormatNumber(n) + " sub-steps of dt_crit = " +
+        flow_internal::FormatNumber(limit_.dt_crit) + " s; use the implicit solver");
   }
   FlowAdvanceReport out;
   out.sub_steps = static_cast<std::int64_t>(std::max(1.0, n));

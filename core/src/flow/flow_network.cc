@@ -5,6 +5,8 @@
 #include <sstream>
 #include <string>
 
+#include "step_input.h"
+
 namespace seep::core {
 
 std::uint64_t NextFlowVersionStamp() {
@@ -18,13 +20,6 @@ std::string Indexed(const char* field, std::size_t index) {
   return std::string("flow.network.") + field + "[" + std::to_string(index) + "]";
 }
 
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 Status CheckSize(const char* field, std::size_t got, std::size_t want, const char* per) {
   if (got == want) return Status::Ok();
   return InvalidArgument(std::string("flow.network.") + field + ": has " + std::to_string(got) +
@@ -34,8 +29,8 @@ Status CheckSize(const char* field, std::size_t got, std::size_t want, const cha
 Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!(std::isfinite(v[i]) && v[i] >= 0.0)) {
-      return InvalidArgument(Indexed(field, i) + ": must be finite and >= 0 (got " + Num(v[i]) +
-                             ")");
+      return InvalidArgument(Indexed(field, i) + ": must be finite and >= 0 (got " +
+                             flow_internal::FormatNumber(v[i]) + ")");
     }
   }
   return Status::Ok();
@@ -44,8 +39,8 @@ Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
 Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!(std::isfinite(v[i]) && v[i] > 0.0)) {
-      return InvalidArgument(Indexed(field, i) + ": must be finite and > 0 (got " + Num(v[i]) +
-                             ")");
+      return InvalidArgument(Indexed(field, i) + ": must be finite and > 0 (got " +
+                             flow_internal::FormatNumber(v[i]) + ")");
     }
   }
   return Status::Ok();
@@ -86,11 +81,12 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
   for (std::size_t i = 0; i < nd; ++i) {
     if (d.pore_volume[i] > d.apparent_volume[i]) {
       return InvalidArgument(Indexed("pore_volume", i) + ": exceeds apparent_volume (" +
-                             Num(d.pore_volume[i]) + " > " + Num(d.apparent_volume[i]) + ")");
+                             flow_internal::FormatNumber(d.pore_volume[i]) + " > " +
+                             flow_internal::FormatNumber(d.apparent_volume[i]) + ")");
     }
     if (!std::isfinite(d.pressure[i])) {
       return InvalidArgument(Indexed("pressure", i) + ": must be finite (got " +
-                             Num(d.pressure[i]) + ")");
+                             flow_internal::FormatNumber(d.pressure[i]) + ")");
     }
     const auto r = static_cast<std::uint8_t>(d.role[i]);
     if (r > static_cast<std::uint8_t>(DomainRole::kSource)) {
@@ -98,10 +94,11 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
     }
     if (!std::isfinite(d.source_rate[i])) {
       return InvalidArgument(Indexed("source_rate", i) + ": must be finite (got " +
-                             Num(d.source_rate[i]) + ")");
+                             flow_internal::FormatNumber(d.source_rate[i]) + ")");
     }
     if (d.source_rate[i] != 0.0 && d.role[i] != DomainRole::kSource) {
-      return InvalidArgument(Indexed("source_rate", i) + ": is " + Num(d.source_rate[i]) +
+      return InvalidArgument(Indexed("source_rate", i) + ": is " +
+                             flow_internal::FormatNumber(d.source_rate[i]) +
                              " but the domain's role is not kSource");
     }
   }
@@ -149,13 +146,13 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
                            " entries, expected " + std::to_string(num_pipes()) + " (one per pipe)");
   }
   if (!(std::isfinite(viscosity) && viscosity > 0.0)) {
-    return InvalidArgument("flow.fluid.viscosity: must be finite and > 0 (got " + Num(viscosity) +
-                           ")");
+    return InvalidArgument("flow.fluid.viscosity: must be finite and > 0 (got " +
+                           flow_internal::FormatNumber(viscosity) + ")");
   }
   for (std::size_t p = 0; p < aperture.size(); ++p) {
     if (!(std::isfinite(aperture[p]) && aperture[p] > 0.0)) {
       return InvalidArgument(Indexed("pipe_aperture", p) + ": must be finite and > 0 (got " +
-                             Num(aperture[p]) + ")");
+                             flow_internal::FormatNumber(aperture[p]) + ")");
     }
   }
   coefficient_version_ = NextFlowVersionStamp();
@@ -186,7 +183,7 @@ Status FlowNetwork::SetFixedPressure(std::int32_t domain, double pressure) {
   SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetFixedPressure"));
   if (!std::isfinite(pressure)) {
     return InvalidArgument(Indexed("pressure", static_cast<std::size_t>(domain)) +
-                           ": must be finite (got " + Num(pressure) + ")");
+                           ": must be finite (got " + flow_internal::FormatNumber(pressure) + ")");
   }
   SetRole(domain, DomainRole::kFixedPressure);
   data_.pressure[domain] = pressure;
@@ -198,7 +195,7 @@ Status FlowNetwork::SetSource(std::int32_t domain, double rate) {
   SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetSource"));
   if (!std::isfinite(rate)) {
     return InvalidArgument(Indexed("source_rate", static_cast<std::size_t>(domain)) +
-                           ": must be finite (got " + Num(rate) + ")");
+                           ": must be finite (got " + flow_internal::FormatNumber(rate) + ")");
   }
   SetRole(domain, DomainRole::kSource);
   data_.source_rate[domain] = rate;

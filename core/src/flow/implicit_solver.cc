@@ -6,17 +6,8 @@
 
 #include "pressure_system.h"
 #include "seep/core/flow/storage_volume.h"
-
+#include "step_input.h"
 namespace seep::core {
-
-namespace {
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-}  // namespace
 
 ImplicitSolver::ImplicitSolver(const ImplicitSolverOptions& options)
     : options_(options),
@@ -28,7 +19,7 @@ ImplicitSolver& ImplicitSolver::operator=(ImplicitSolver&&) noexcept = default;
 Result<ImplicitSolver> ImplicitSolver::Create(const ImplicitSolverOptions& options) {
   if (!(std::isfinite(options.bulk_modulus) && options.bulk_modulus > 0.0)) {
     return InvalidArgument("flow.implicit.bulk_modulus: must be finite and > 0 (got " +
-                           Num(options.bulk_modulus) + ")");
+                           flow_internal::FormatNumber(options.bulk_modulus) + ")");
   }
   SEEP_RETURN_IF_ERROR(ValidateStorageModel(options.storage));
   if (options.linear_solver != LinearSolverKind::kCholmodSupernodal &&
@@ -63,23 +54,9 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
 
 Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
                                             std::span<const double> volume_change) {
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return InvalidArgument("flow.implicit.dt: must be finite and > 0 (got " + Num(dt) + ")");
-  }
   const std::size_t nd = network.num_domains();
-  if (!volume_change.empty() && volume_change.size() != nd) {
-    return InvalidArgument("flow.implicit.volume_change: has " +
-                           std::to_string(volume_change.size()) + " entries, expected " +
-                           std::to_string(nd) + " (one per domain, or none)");
-  }
-  if (options_.diagnostics) {
-    for (std::size_t d = 0; d < volume_change.size(); ++d) {
-      if (!std::isfinite(volume_change[d])) {
-        return InvalidArgument("flow.implicit.volume_change[" + std::to_string(d) +
-                               "]: must be finite (got " + Num(volume_change[d]) + ")");
-      }
-    }
-  }
+  SEEP_RETURN_IF_ERROR(
+      flow_internal::CheckStepInput("implicit", dt, nd, volume_change, options_.diagnostics));
   SEEP_RETURN_IF_ERROR(Prepare(network));
   if (dt != storage_diagonal_dt_) {
     storage_diagonal_.resize(nd);

@@ -7,17 +7,8 @@
 
 #include "pressure_system.h"
 #include "seep/core/flow/storage_volume.h"
-
+#include "step_input.h"
 namespace seep::core {
-
-namespace {
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-}  // namespace
 
 SteadyStateSolver::SteadyStateSolver(const SteadyStateOptions& options)
     : options_(options),
@@ -99,7 +90,7 @@ Result<SteadyStateReport> SteadyStateSolver::Solve(FlowNetwork& network) {
         return FailedPrecondition(
             "flow.steady: closed component " + std::to_string(k) + " (containing domain " +
             std::to_string(components_.first_domain[k]) + ") has a net source of " +
-            Num(closed_source[k]) + " m^2/s, so no steady state exists");
+            flow_internal::FormatNumber(closed_source[k]) + " m^2/s, so no steady state exists");
       }
     }
   }
