@@ -5,6 +5,7 @@
 #include <grpcpp/grpcpp.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -151,7 +152,23 @@ int Show(const GlobalOptions& global, const std::string& job_id) {
   return 0;
 }
 
-int List(const GlobalOptions& global, unsigned limit) {
+int List(const GlobalOptions& global, const ListOptions& options) {
+  const unsigned limit = options.limit;
+  std::vector<v1::JobState> states;
+  for (const std::string& name : options.states) {
+    std::string upper = "JOB_STATE_";
+    for (const char c : name)
+      upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
+    if (!v1::JobState_Parse(upper, &state) || state == v1::JOB_STATE_UNSPECIFIED) {
+      std::fprintf(stderr,
+                   "seep: list: --state %s: expected queued, running, succeeded, failed or "
+                   "cancelled\n",
+                   name.c_str());
+      return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+    }
+    states.push_back(state);
+  }
   auto stub = v1::SeepService::NewStub(Connect(global));
   v1::ListJobsResponse all;
   std::string token;
@@ -161,6 +178,8 @@ int List(const GlobalOptions& global, unsigned limit) {
     v1::ListJobsRequest request;
     request.set_page_size(std::min(limit - static_cast<unsigned>(all.jobs_size()), 1000u));
     request.set_page_token(token);
+    for (const v1::JobState state : states) request.add_states(state);
+    request.set_name_contains(options.name_contains);
     v1::ListJobsResponse page;
     if (auto status = stub->ListJobs(&ctx, request, &page); !status.ok()) {
       return ReportRpcError(global, "list", status);
@@ -174,6 +193,65 @@ int List(const GlobalOptions& global, unsigned limit) {
   }
   std::cout << FormatJobTableHeader() << "\n";
   for (const auto& job : all.jobs()) std::cout << FormatJobRow(job) << "\n";
+  return 0;
+}
+
+int Cancel(const GlobalOptions& global, const std::string& job_id) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  v1::CancelJobRequest request;
+  request.set_id(job_id);
+  v1::CancelJobResponse response;
+  if (auto status = stub->CancelJob(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "cancel", status);
+  }
+  if (global.json) {
+    std::cout << ToJson(response.job());
+  } else if (response.job().state() == v1::JOB_STATE_CANCELLED) {
+    std::cout << fmt::format("job {} cancelled", job_id) << std::endl;
+  } else {
+    std::cout << fmt::format("job {} is {}; cancel requested, it stops at its next step", job_id,
+                             StateName(response.job().state()))
+              << std::endl;
+  }
+  return 0;
+}
+
+int Resume(const GlobalOptions& global, const std::string& job_id) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  v1::ResumeJobRequest request;
+  request.set_id(job_id);
+  v1::ResumeJobResponse response;
+  if (auto status = stub->ResumeJob(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "resume", status);
+  }
+  if (global.json) {
+    std::cout << ToJson(response.job());
+  } else {
+    std::cout << fmt::format("job {} queued again (attempt {})", job_id, response.job().attempt())
+              << std::endl;
+  }
+  return 0;
+}
+
+int Result(const GlobalOptions& global, const std::string& job_id) {
+  auto stub = v1::SeepService::NewStub(Connect(global));
+  grpc::ClientContext ctx;
+  SetDeadline(global, &ctx);
+  v1::GetResultRequest request;
+  request.set_id(job_id);
+  v1::GetResultResponse response;
+  if (auto status = stub->GetResult(&ctx, request, &response); !status.ok()) {
+    return ReportRpcError(global, "result", status);
+  }
+  if (global.json) {
+    std::cout << ToJson(response);
+  } else {
+    std::cout << FormatResult(response.result());
+  }
   return 0;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace seep::client {
 
@@ -26,7 +27,19 @@ struct SubmitOptions {
 int Submit(const GlobalOptions& global, const SubmitOptions& options);
 int Watch(const GlobalOptions& global, const std::string& job_id);
 int Show(const GlobalOptions& global, const std::string& job_id);
-int List(const GlobalOptions& global, unsigned limit);
+struct ListOptions {
+  unsigned limit = 50;
+  std::vector<std::string> states;  // queued, running, succeeded, failed, cancelled (any case)
+  std::string name_contains;
+};
+
+int List(const GlobalOptions& global, const ListOptions& options);
+// Cancels a job: a QUEUED job at once, a RUNNING one at its next step.
+int Cancel(const GlobalOptions& global, const std::string& job_id);
+// Queues a FAILED or CANCELLED job again as a new attempt.
+int Resume(const GlobalOptions& global, const std::string& job_id);
+// The metrics of a SUCCEEDED job, as a table or JSON.
+int Result(const GlobalOptions& global, const std::string& job_id);
 int Health(const GlobalOptions& global);
 
 }  // namespace seep::client

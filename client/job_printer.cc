@@ -29,7 +29,10 @@ std::string FormatJob(const v1::Job& job) {
                      FormatTime(job.started_at()), FormatTime(job.finished_at()));
   out += fmt::format("progress  step {}, t = {:.6g} s, {:.1f}%\n", job.progress().step(),
                      job.progress().time_s(), 100.0 * job.progress().fraction_done());
-  out += fmt::format("build     {}\n", job.build_id());
+  out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
+  if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
+    out += "cancel    requested; the job stops at its next step\n";
+  }
   if (job.has_error()) {
     out += fmt::format("error     {}: {}\n", job.error().code(), job.error().message());
   }
@@ -40,6 +43,14 @@ std::string FormatJob(const v1::Job& job) {
                                                 job.result().metrics().end());
     for (const auto& [name, value] : metrics) out += fmt::format("  {:<28} {:.9g}\n", name, value);
   }
+  return out;
+}
+
+std::string FormatResult(const v1::JobResult& result) {
+  std::string out = fmt::format("{:<28} {}\n", "METRIC", "VALUE");
+  const std::map<std::string, double> metrics(result.metrics().begin(), result.metrics().end());
+  for (const auto& [name, value] : metrics) out += fmt::format("{:<28} {:.9g}\n", name, value);
+  out += fmt::format("{:<28} {:.3f}\n", "wall_time_s", result.wall_time_s());
   return out;
 }
 

@@ -11,6 +11,7 @@ std::string StateName(v1::JobState state);  // "RUNNING"
 std::string FormatJob(const v1::Job& job);  // multi-line summary with the result metrics
 std::string FormatJobRow(const v1::Job& job);
 std::string FormatJobTableHeader();
-std::string FormatProgress(const v1::Job& job);  // one line: state, step, time, %, ETA
+std::string FormatProgress(const v1::Job& job);         // one line: state, step, time, %, ETA
+std::string FormatResult(const v1::JobResult& result);  // METRIC / VALUE table, sorted by name
 
 }  // namespace seep::client

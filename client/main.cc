@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   GlobalOptions global;
   CLI::App app{"seep: submit and follow seepage simulations on a seepd server"};
   app.require_subcommand(1);
+  app.fallthrough();  // global options may also follow the subcommand: seep result <id> --json
   app.add_option("--server", global.server, "seepd address")
       ->envname("SEEP_SERVER")
       ->capture_default_str();
@@ -31,18 +32,32 @@ int main(int argc, char** argv) {
   auto* show_cmd = app.add_subcommand("show", "show a job and its result");
   show_cmd->add_option("job", job_id, "job id")->required();
 
-  unsigned limit = 50;
+  ListOptions list;
   auto* list_cmd = app.add_subcommand("list", "list jobs, newest first");
-  list_cmd->add_option("--limit", limit, "at most this many jobs")
+  list_cmd->add_option("--limit", list.limit, "at most this many jobs")
       ->check(CLI::Range(1u, 100000u))
       ->capture_default_str();
+  list_cmd->add_option("--state", list.states,
+                       "only jobs in this state (queued, running, succeeded, failed, cancelled); "
+                       "repeat for several");
+  list_cmd->add_option("--name", list.name_contains, "only jobs whose name contains this");
+  auto* cancel_cmd = app.add_subcommand("cancel", "cancel a queued or running job");
+  cancel_cmd->add_option("job", job_id, "job id")->required();
+  auto* resume_cmd =
+      app.add_subcommand("resume", "run a failed or cancelled job again (a new attempt)");
+  resume_cmd->add_option("job", job_id, "job id")->required();
+  auto* result_cmd = app.add_subcommand("result", "show the metrics of a succeeded job");
+  result_cmd->add_option("job", job_id, "job id")->required();
   auto* health_cmd = app.add_subcommand("health", "check that seepd is serving");
 
   CLI11_PARSE(app, argc, argv);
   if (*submit_cmd) return Submit(global, submit);
   if (*watch_cmd) return Watch(global, job_id);
   if (*show_cmd) return Show(global, job_id);
-  if (*list_cmd) return List(global, limit);
+  if (*list_cmd) return List(global, list);
+  if (*cancel_cmd) return Cancel(global, job_id);
+  if (*resume_cmd) return Resume(global, job_id);
+  if (*result_cmd) return Result(global, job_id);
   if (*health_cmd) return Health(global);
   return 2;
 }

@@ -3,14 +3,17 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <semaphore.h>
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <thread>
 
 #include "codec/scene_codec.h"
@@ -21,6 +24,14 @@
 #include "store/job_store.h"
 
 namespace {
+
+sem_t g_stop_signalled;
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void OnStopSignal(int sig) {
+  g_stop_signal = sig;
+  sem_post(&g_stop_signalled);  // async-signal-safe
+}
 
 struct Options {
   std::string listen = "127.0.0.1:50051";
@@ -65,7 +76,20 @@ int Run(const Options& options) {
   auto logger = MakeLogger(options);
   seep::core::SetLogger(logger->clone("core"));
 
-  // Signals are taken by one thread with sigwait; every other thread inherits the mask.
+  // SIGINT/SIGTERM wake the shutdown thread through a semaphore posted by a handler. Not
+  // sigwait: libraries start threads before main (OpenBLAS, under CHOLMOD, starts its pool
+  // when loaded) whose masks leave the signals unblocked, and the kernel may deliver to any of
+  // them, so the disposition itself must be ours. The threads started here block the signals.
+  if (sem_init(&g_stop_signalled, 0, 0) != 0) {
+    logger->critical("cannot create the shutdown semaphore");
+    return 1;
+  }
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
@@ -78,7 +102,11 @@ int Run(const Options& options) {
     logger->critical("cannot open the job store {}: {}", db_path, store.status().ToString());
     return 1;
   }
-  if (auto requeued = (*store)->RequeueRunning(); !requeued.ok()) {
+  // Unique per process: any RUNNING lease held by another owner belongs to a previous seepd.
+  std::random_device entropy;
+  std::mt19937_64 rng((static_cast<std::uint64_t>(entropy()) << 32) ^ entropy());
+  const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), rng());
+  if (auto requeued = (*store)->RequeueRunning(lease_owner); !requeued.ok()) {
     logger->critical("recovery failed: {}", requeued.status().ToString());
     return 1;
   } else if (*requeued > 0) {
@@ -86,9 +114,14 @@ int Run(const Options& options) {
   }
 
   seep::service::JobHub hub;
-  seep::service::JobRunner runner(**store, hub, {options.workers, SEEP_BUILD_ID, {}}, logger);
+  seep::service::JobRunnerOptions runner_options;
+  runner_options.workers = options.workers;
+  runner_options.build_id = SEEP_BUILD_ID;
+  runner_options.lease_owner = lease_owner;
+  seep::service::JobRunner runner(**store, hub, runner_options, logger);
   seep::service::SeepServiceImpl service(
-      **store, hub, SEEP_BUILD_ID, [&] { runner.Wake(); }, logger);
+      **store, hub, SEEP_BUILD_ID,
+      {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -112,9 +145,9 @@ int Run(const Options& options) {
   runner.Start();
 
   std::thread signal_waiter([&] {
-    int sig = 0;
-    sigwait(&signals, &sig);
-    logger->info("signal {} received: shutting down", sig);
+    while (sem_wait(&g_stop_signalled) != 0) {
+    }  // EINTR: wait again
+    logger->info("signal {} received: shutting down", static_cast<int>(g_stop_signal));
     server->GetHealthCheckService()->SetServingStatus(false);
     hub.Close();
     runner.Stop();

@@ -27,6 +27,23 @@ v1::JobState JobStateToProto(JobState state) {
   return v1::JOB_STATE_UNSPECIFIED;
 }
 
+std::optional<JobState> JobStateFromProto(v1::JobState state) {
+  switch (state) {
+    case v1::JOB_STATE_QUEUED:
+      return JobState::kQueued;
+    case v1::JOB_STATE_RUNNING:
+      return JobState::kRunning;
+    case v1::JOB_STATE_SUCCEEDED:
+      return JobState::kSucceeded;
+    case v1::JOB_STATE_FAILED:
+      return JobState::kFailed;
+    case v1::JOB_STATE_CANCELLED:
+      return JobState::kCancelled;
+    default:
+      return std::nullopt;
+  }
+}
+
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   out->set_id(job.id);
   out->set_name(job.name);
@@ -51,6 +68,8 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
     result->set_wall_time_s(job.wall_time_s);
   }
   out->set_build_id(job.build_id);
+  out->set_attempt(job.attempt);
+  out->set_cancel_requested(job.cancel_requested);
 }
 
 }  // namespace seep::service

@@ -1,12 +1,16 @@
 // JobRecord (the store's form) -> seep.v1.Job (the wire form).
 #pragma once
 
+#include <optional>
+
 #include "seep/v1/job_service.pb.h"
 #include "store/job_record.h"
 
 namespace seep::service {
 
 v1::JobState JobStateToProto(JobState state);
+// nullopt for JOB_STATE_UNSPECIFIED and values outside the enum.
+std::optional<JobState> JobStateFromProto(v1::JobState state);
 // with_scene = false leaves Job.scene empty (ListJobs keeps pages small).
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out);
 

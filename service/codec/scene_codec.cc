@@ -108,6 +108,45 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   return spec;
 }
 
+Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
+  core::BoundarySpec spec;
+  spec.initial_pressure_pa = boundary.initial_pressure_pa();
+  if (boundary.has_radial()) {
+    if (boundary.axis() != v1::FLOW_AXIS_UNSPECIFIED) {
+      return InvalidArgument(
+          fmt::format("scene.boundary.axis: must be unset with a radial boundary (got {})",
+                      v1::FlowAxis_Name(boundary.axis())));
+    }
+    if (boundary.inlet_pressure_pa() != 0.0 || boundary.outlet_pressure_pa() != 0.0) {
+      return InvalidArgument(fmt::format(
+          "scene.boundary.inlet_pressure_pa: inlet and outlet pressures must be unset with a "
+          "radial boundary (got {} and {}); use radial.well_pressure_pa and "
+          "radial.outer_pressure_pa",
+          boundary.inlet_pressure_pa(), boundary.outlet_pressure_pa()));
+    }
+    const v1::RadialBoundary& radial = boundary.radial();
+    spec.radial = core::RadialBoundarySpec{radial.well_radius_m(), radial.outer_radius_m(),
+                                           radial.well_pressure_pa(), radial.outer_pressure_pa()};
+    return spec;
+  }
+  switch (boundary.axis()) {
+    case v1::FLOW_AXIS_X:
+      spec.axis = core::FlowAxis::kX;
+      break;
+    case v1::FLOW_AXIS_Y:
+      spec.axis = core::FlowAxis::kY;
+      break;
+    default:
+      return InvalidArgument(fmt::format(
+          "scene.boundary.axis: must be FLOW_AXIS_X or FLOW_AXIS_Y, or set boundary.radial (got "
+          "{})",
+          v1::FlowAxis_Name(boundary.axis())));
+  }
+  spec.inlet_pressure_pa = boundary.inlet_pressure_pa();
+  spec.outlet_pressure_pa = boundary.outlet_pressure_pa();
+  return spec;
+}
+
 }  // namespace
 
 Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
@@ -118,21 +157,7 @@ Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
   spec.fluid = {scene.fluid().viscosity_pa_s(), scene.fluid().bulk_modulus_pa()};
   spec.aperture = {scene.aperture().residual_aperture_m(), scene.aperture().reference_force_n(),
                    scene.aperture().gap_multiplier(), scene.aperture().max_aperture_m()};
-  switch (scene.boundary().axis()) {
-    case v1::FLOW_AXIS_X:
-      spec.boundary.axis = core::FlowAxis::kX;
-      break;
-    case v1::FLOW_AXIS_Y:
-      spec.boundary.axis = core::FlowAxis::kY;
-      break;
-    default:
-      return InvalidArgument(
-          fmt::format("scene.boundary.axis: must be FLOW_AXIS_X or FLOW_AXIS_Y (got {})",
-                      v1::FlowAxis_Name(scene.boundary().axis())));
-  }
-  spec.boundary.inlet_pressure_pa = scene.boundary().inlet_pressure_pa();
-  spec.boundary.outlet_pressure_pa = scene.boundary().outlet_pressure_pa();
-  spec.boundary.initial_pressure_pa = scene.boundary().initial_pressure_pa();
+  SEEP_ASSIGN_OR_RETURN(spec.boundary, BoundaryFromProto(scene.boundary()));
   SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver()));
   SEEP_RETURN_IF_ERROR(core::ValidateScene(spec));
   return spec;

@@ -1,13 +1,18 @@
 // JobRunner: a fixed pool of worker threads that claim queued jobs from the store and run them.
 //
 // A job's failure is data (state FAILED with a code and message), never an exception leaving a
-// thread. On shutdown, running jobs are stopped at a step boundary and left RUNNING in the
-// store, so the next seepd start queues them again: nothing a user submitted is lost.
+// thread. Each claim is a lease (owner, epoch, expiry) that a heartbeat thread renews; every
+// write a worker makes is fenced by its epoch, so a worker whose lease was taken over gets
+// ABORTED and stops its job without writing. Each running job has its own stop source: a user's
+// cancel stops that job only (recorded CANCELLED), shutdown stops all of them at a step boundary
+// and leaves them RUNNING in the store, so the next seepd start queues them again.
 #pragma once
 
 #include <spdlog/logger.h>
 
+#include <atomic>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -24,6 +29,10 @@ struct JobRunnerOptions {
   std::string build_id;
   // Least wall time between two progress writes to the store for one job.
   std::chrono::milliseconds store_progress_interval{1000};
+  // Who holds the leases this runner takes (unique per seepd process).
+  std::string lease_owner = "seepd";
+  std::chrono::milliseconds lease_duration{30000};
+  std::chrono::milliseconds heartbeat_interval{2000};
 };
 
 class JobRunner {
@@ -39,10 +48,23 @@ class JobRunner {
   void Stop();
   // A job was queued: wake an idle worker.
   void Wake();
+  // Asks the worker running this job (if it runs here) to stop it and record CANCELLED.
+  void CancelRunning(const std::string& id);
 
  private:
+  // What the runner knows of one job that a worker of this process is running.
+  struct Running {
+    std::int64_t epoch = 0;
+    std::stop_source stop;  // this job only: cancel, lease loss or shutdown
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> lease_lost{false};
+  };
+
   void WorkerLoop(const std::stop_token& stop);
-  void RunJob(const JobRecord& job, const std::stop_token& stop);
+  void HeartbeatLoop(const std::stop_token& stop);
+  // Renews one lease; on a pending cancel or a lost lease, stops the job.
+  void Renew(const std::string& id, Running& running);
+  void RunJob(const JobRecord& job, const std::stop_token& shutdown);
 
   JobStore& store_;
   JobHub& hub_;
@@ -50,8 +72,11 @@ class JobRunner {
   std::shared_ptr<spdlog::logger> logger_;
   std::mutex mutex_;
   std::condition_variable_any wake_;
+  std::condition_variable_any heartbeat_wake_;  // only to end the heartbeat's wait early
   std::uint64_t wake_count_ = 0;
+  std::map<std::string, std::shared_ptr<Running>> running_;  // guarded by mutex_
   std::vector<std::jthread> workers_;
+  std::jthread heartbeat_;
 };
 
 }  // namespace seep::service

@@ -16,6 +16,7 @@ namespace {
 constexpr std::uint32_t kDefaultPageSize = 50;
 constexpr std::uint32_t kMaxPageSize = 1000;
 constexpr std::size_t kMaxRequestIdLength = 200;
+constexpr std::size_t kMaxNameFilterLength = 200;
 
 std::int64_t NowMs() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -44,12 +45,11 @@ grpc::Status Guarded(const std::shared_ptr<spdlog::logger>& logger, const char* 
 }  // namespace
 
 SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id,
-                                 std::function<void()> on_submitted,
-                                 std::shared_ptr<spdlog::logger> logger)
+                                 ServiceHooks hooks, std::shared_ptr<spdlog::logger> logger)
     : store_(store),
       hub_(hub),
       build_id_(std::move(build_id)),
-      on_submitted_(std::move(on_submitted)),
+      hooks_(std::move(hooks)),
       logger_(std::move(logger)) {}
 
 core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
@@ -94,7 +94,7 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* /*ctx*/,
     if (outcome->created) {
       logger_->info("job {} submitted ('{}')", outcome->job.id, outcome->job.name);
       hub_.NotifyChanged();
-      if (on_submitted_) on_submitted_();
+      if (hooks_.wake_workers) hooks_.wake_workers();
     }
     auto current = LoadJob(outcome->job.id);
     if (!current.ok()) return ToGrpcStatus(current.status());
@@ -130,7 +130,21 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* /*ctx*/, const v1::L
         return {grpc::StatusCode::INVALID_ARGUMENT, "page_token: not a token returned by ListJobs"};
       }
     }
-    auto page = store_.List(limit, cursor);
+    JobFilter filter;
+    for (const int state : req->states()) {
+      const auto known = JobStateFromProto(static_cast<v1::JobState>(state));
+      if (!known) {
+        return {grpc::StatusCode::INVALID_ARGUMENT,
+                fmt::format("states: {} is not a job state", state)};
+      }
+      filter.states.push_back(*known);
+    }
+    if (req->name_contains().size() > kMaxNameFilterLength) {
+      return {grpc::StatusCode::INVALID_ARGUMENT,
+              fmt::format("name_contains: at most {} characters", kMaxNameFilterLength)};
+    }
+    filter.name_contains = req->name_contains();
+    auto page = store_.List(limit, cursor, filter);
     if (!page.ok()) return ToGrpcStatus(page.status());
     for (JobRecord& job : page->jobs) {
       if (job.state == JobState::kRunning) {
@@ -154,6 +168,7 @@ grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::Watch
       if (!job.ok()) return ToGrpcStatus(job.status());
       v1::JobEvent event;
       JobToProto(*job, /*with_scene=*/false, event.mutable_job());
+      if (event.job().has_result()) *event.mutable_result() = event.job().result();
       std::string bytes = event.SerializeAsString();
       if (bytes != last_sent) {
         if (!writer->Write(event)) return {grpc::StatusCode::CANCELLED, "watcher went away"};
@@ -164,6 +179,63 @@ grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::Watch
       if (hub_.closed()) return {grpc::StatusCode::UNAVAILABLE, "seepd is shutting down"};
       hub_.WaitForChange(version, std::chrono::seconds(1));
     }
+  });
+}
+
+grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* /*ctx*/,
+                                        const v1::CancelJobRequest* req,
+                                        v1::CancelJobResponse* resp) {
+  return Guarded(logger_, "CancelJob", [&]() -> grpc::Status {
+    if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
+    auto job = store_.Cancel(req->id(), NowMs());
+    if (!job.ok()) return ToGrpcStatus(job.status());
+    if (job->state == JobState::kRunning) {
+      logger_->info("job {}: cancel requested while running", job->id);
+      if (hooks_.cancel_running) hooks_.cancel_running(job->id);
+    } else {
+      logger_->info("job {}: cancelled before it started", job->id);
+    }
+    hub_.NotifyChanged();
+    auto current = LoadJob(job->id);
+    if (!current.ok()) return ToGrpcStatus(current.status());
+    JobToProto(*current, /*with_scene=*/false, resp->mutable_job());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* /*ctx*/,
+                                        const v1::ResumeJobRequest* req,
+                                        v1::ResumeJobResponse* resp) {
+  return Guarded(logger_, "ResumeJob", [&]() -> grpc::Status {
+    if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
+    auto job = store_.Resume(req->id());
+    if (!job.ok()) return ToGrpcStatus(job.status());
+    logger_->info("job {}: resumed as attempt {} (runs again from the start)", job->id,
+                  job->attempt);
+    hub_.NotifyChanged();
+    if (hooks_.wake_workers) hooks_.wake_workers();
+    JobToProto(*job, /*with_scene=*/false, resp->mutable_job());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SeepServiceImpl::GetResult(grpc::ServerContext* /*ctx*/,
+                                        const v1::GetResultRequest* req,
+                                        v1::GetResultResponse* resp) {
+  return Guarded(logger_, "GetResult", [&]() -> grpc::Status {
+    if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
+    auto job = store_.Get(req->id());
+    if (!job.ok()) return ToGrpcStatus(job.status());
+    if (job->state != JobState::kSucceeded) {
+      return {grpc::StatusCode::FAILED_PRECONDITION,
+              fmt::format("job {} is {}; only a SUCCEEDED job has a result", job->id,
+                          JobStateName(job->state))};
+    }
+    v1::Job wire;
+    JobToProto(*job, /*with_scene=*/false, &wire);
+    resp->set_job_id(job->id);
+    *resp->mutable_result() = wire.result();
+    return grpc::Status::OK;
   });
 }
 

@@ -17,10 +17,16 @@
 
 namespace seep::service {
 
+// How the service reaches the worker pool without depending on it.
+struct ServiceHooks {
+  std::function<void()> wake_workers;                      // a job was queued
+  std::function<void(const std::string&)> cancel_running;  // stop this RUNNING job now
+};
+
 class SeepServiceImpl final : public v1::SeepService::Service {
  public:
-  SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id,
-                  std::function<void()> on_submitted, std::shared_ptr<spdlog::logger> logger);
+  SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id, ServiceHooks hooks,
+                  std::shared_ptr<spdlog::logger> logger);
 
   grpc::Status SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
                          v1::SubmitJobResponse* resp) override;
@@ -30,6 +36,12 @@ class SeepServiceImpl final : public v1::SeepService::Service {
                         v1::ListJobsResponse* resp) override;
   grpc::Status WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
                         grpc::ServerWriter<v1::JobEvent>* writer) override;
+  grpc::Status CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
+                         v1::CancelJobResponse* resp) override;
+  grpc::Status ResumeJob(grpc::ServerContext* ctx, const v1::ResumeJobRequest* req,
+                         v1::ResumeJobResponse* resp) override;
+  grpc::Status GetResult(grpc::ServerContext* ctx, const v1::GetResultRequest* req,
+                         v1::GetResultResponse* resp) override;
 
  private:
   // The stored job with the hub's live progress laid over it.
@@ -38,7 +50,7 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   JobStore& store_;
   JobHub& hub_;
   std::string build_id_;
-  std::function<void()> on_submitted_;
+  ServiceHooks hooks_;
   std::shared_ptr<spdlog::logger> logger_;
 };
 

@@ -41,6 +41,15 @@ struct JobRecord {
   // Sorted by name; filled for finished jobs.
   std::vector<std::pair<std::string, double>> metrics;
   double wall_time_s = 0.0;
+  // 1 for the first run; Resume adds one.
+  std::uint32_t attempt = 1;
+  // Set by Cancel on a RUNNING job; the worker that holds the lease stops and records CANCELLED.
+  bool cancel_requested = false;
+  // The lease of the worker running the job. lease_epoch grows on every claim, so a write
+  // conditioned on it fails for any worker that is not the latest claimant (a fencing token).
+  std::optional<std::string> lease_owner;
+  std::int64_t lease_epoch = 0;
+  std::optional<std::int64_t> lease_expires_at_ms;
 };
 
 }  // namespace seep::service

@@ -36,13 +36,23 @@ CREATE TABLE results (
   PRIMARY KEY (job_id, name)
 ) STRICT;
 )sql",
+    // v2: attempts, cancel requests and worker leases (owner, fencing epoch, expiry).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN attempt INTEGER NOT NULL DEFAULT 1;
+ALTER TABLE jobs ADD COLUMN cancel_requested INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN lease_owner TEXT;
+ALTER TABLE jobs ADD COLUMN lease_epoch INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN lease_expires_at_ms INTEGER;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 static_assert(kMigrationCount == JobStore::kSchemaVersion);
 
 constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
-    "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s";
+    "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
+    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms";
+constexpr int kSceneColumn = 20;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -60,6 +70,11 @@ JobRecord ReadJobRow(const Stmt& s) {
   job.error_code = s.ColumnText(12);
   job.error_message = s.ColumnText(13);
   job.wall_time_s = s.ColumnDouble(14);
+  job.attempt = static_cast<std::uint32_t>(s.ColumnInt(15));
+  job.cancel_requested = s.ColumnInt(16) != 0;
+  if (!s.ColumnIsNull(17)) job.lease_owner = s.ColumnText(17);
+  job.lease_epoch = s.ColumnInt(18);
+  if (!s.ColumnIsNull(19)) job.lease_expires_at_ms = s.ColumnInt(19);
   return job;
 }
 
@@ -115,6 +130,11 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
     SEEP_ASSIGN_OR_RETURN(const auto existing, FindByRequestIdLocked(*job.request_id));
     if (existing) {
       SEEP_ASSIGN_OR_RETURN(JobRecord found, GetLocked(*existing, /*with_scene=*/true));
+      if (found.scene != job.scene) {
+        return core::AlreadyExists(
+            fmt::format("request_id: '{}' was already used for job {} with a different scene",
+                        *job.request_id, found.id));
+      }
       return InsertOutcome{std::move(found), false};
     }
   }
@@ -141,7 +161,7 @@ Result<JobRecord> JobStore::GetLocked(const std::string& id, bool with_scene) {
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return core::NotFound(fmt::format("job {} not found", id));
   JobRecord job = ReadJobRow(s);
-  if (with_scene) job.scene = s.ColumnBlob(15);
+  if (with_scene) job.scene = s.ColumnBlob(kSceneColumn);
   SEEP_ASSIGN_OR_RETURN(
       Stmt m, db_->Prepare("SELECT name, value FROM results WHERE job_id = ? ORDER BY name"));
   m.Bind(1, std::string_view(id));
@@ -158,12 +178,26 @@ Result<JobRecord> JobStore::Get(const std::string& id) {
   return GetLocked(id, /*with_scene=*/true);
 }
 
-Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> cursor) {
+Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> cursor,
+                               const JobFilter& filter) {
   std::lock_guard lock(mutex_);
+  std::string where = "rowid < ?";
+  if (!filter.states.empty()) {
+    where += " AND state IN (";
+    for (std::size_t i = 0; i < filter.states.size(); ++i) where += i == 0 ? "?" : ", ?";
+    where += ")";
+  }
+  if (!filter.name_contains.empty()) where += " AND instr(name, ?) > 0";
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare(fmt::format(
-                  "SELECT {} FROM jobs WHERE rowid < ? ORDER BY rowid DESC LIMIT ?", kJobColumns)));
-  s.Bind(1, cursor.value_or(INT64_MAX)).Bind(2, static_cast<std::int64_t>(limit) + 1);
+      Stmt s, db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE {} ORDER BY rowid DESC LIMIT ?",
+                                       kJobColumns, where)));
+  int index = 1;
+  s.Bind(index++, cursor.value_or(INT64_MAX));
+  for (const JobState state : filter.states) {
+    s.Bind(index++, std::string_view(JobStateName(state)));
+  }
+  if (!filter.name_contains.empty()) s.Bind(index++, std::string_view(filter.name_contains));
+  s.Bind(index, static_cast<std::int64_t>(limit) + 1);
   JobPage page;
   std::int64_t last_rowid = 0;
   for (;;) {
@@ -179,37 +213,66 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
   return page;
 }
 
-Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(std::int64_t now_ms) {
+Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& owner,
+                                                           std::int64_t now_ms,
+                                                           std::int64_t lease_ms) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ? WHERE rowid = "
+      Stmt s, db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
+                           "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
                            "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY rowid LIMIT 1) "
                            "RETURNING id"));
-  s.Bind(1, now_ms);
+  s.Bind(1, now_ms).Bind(2, std::string_view(owner)).Bind(3, now_ms + lease_ms);
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return std::optional<JobRecord>();
   const std::string id = s.ColumnText(0);
   SEEP_RETURN_IF_ERROR(s.Run());
-  SEEP_RETURN_IF_ERROR(tx.Commit());
   SEEP_ASSIGN_OR_RETURN(JobRecord job, GetLocked(id, /*with_scene=*/true));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
   return std::optional<JobRecord>(std::move(job));
 }
 
-Status JobStore::UpdateProgress(const std::string& id, const JobProgress& progress) {
+namespace {
+Status LeaseLost(const std::string& id, std::int64_t epoch) {
+  return core::Aborted(fmt::format(
+      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
+}
+}  // namespace
+
+Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
+                                 std::int64_t expires_at_ms) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = ? WHERE id = ? AND lease_epoch = "
+                           "? AND state = 'RUNNING' RETURNING cancel_requested"));
+  s.Bind(1, expires_at_ms).Bind(2, std::string_view(id)).Bind(3, epoch);
+  SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+  if (!row) return LeaseLost(id, epoch);
+  const bool cancel_requested = s.ColumnInt(0) != 0;
+  SEEP_RETURN_IF_ERROR(s.Run());
+  return cancel_requested;
+}
+
+Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
+                                const JobProgress& progress) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("UPDATE jobs SET step = ?, time_s = ?, fraction_done = "
-                                     "? WHERE id = ? AND state = 'RUNNING'"));
+                                     "? WHERE id = ? AND lease_epoch = ? AND state = "
+                                     "'RUNNING'"));
   s.Bind(1, static_cast<std::int64_t>(progress.step))
       .Bind(2, progress.time_s)
       .Bind(3, progress.fraction_done)
-      .Bind(4, std::string_view(id));
-  return s.Run();
+      .Bind(4, std::string_view(id))
+      .Bind(5, epoch);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  if (db_->Changes() != 1) return LeaseLost(id, epoch);
+  return Status::Ok();
 }
 
-Status JobStore::Finish(const std::string& id, JobState state, const std::string& error_code,
-                        const std::string& error_message,
+Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState state,
+                        const std::string& error_code, const std::string& error_message,
                         const std::vector<std::pair<std::string, double>>& metrics,
                         double wall_time_s, std::int64_t now_ms) {
   if (!IsTerminal(state)) {
@@ -219,19 +282,18 @@ Status JobStore::Finish(const std::string& id, JobState state, const std::string
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s,
-      db_->Prepare("UPDATE jobs SET state = ?, error_code = ?, error_message = ?, "
-                   "wall_time_s = ?, finished_at_ms = ? WHERE id = ? AND state = 'RUNNING'"));
+      Stmt s, db_->Prepare("UPDATE jobs SET state = ?, error_code = ?, error_message = ?, "
+                           "wall_time_s = ?, finished_at_ms = ?, lease_expires_at_ms = NULL "
+                           "WHERE id = ? AND lease_epoch = ? AND state = 'RUNNING'"));
   s.Bind(1, std::string_view(JobStateName(state)))
       .Bind(2, std::string_view(error_code))
       .Bind(3, std::string_view(error_message))
       .Bind(4, wall_time_s)
       .Bind(5, now_ms)
-      .Bind(6, std::string_view(id));
+      .Bind(6, std::string_view(id))
+      .Bind(7, epoch);
   SEEP_RETURN_IF_ERROR(s.Run());
-  if (db_->Changes() != 1) {
-    return core::FailedPrecondition(fmt::format("store: job {} is not running", id));
-  }
+  if (db_->Changes() != 1) return LeaseLost(id, epoch);
   SEEP_ASSIGN_OR_RETURN(Stmt insert,
                         db_->Prepare("INSERT INTO results (job_id, name, value) VALUES (?, ?, ?)"));
   for (const auto& [name, value] : metrics) {
@@ -242,12 +304,77 @@ Status JobStore::Finish(const std::string& id, JobState state, const std::string
   return tx.Commit();
 }
 
-Result<int> JobStore::RequeueRunning() {
+Result<JobRecord> JobStore::Cancel(const std::string& id, std::int64_t now_ms) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
-  SEEP_RETURN_IF_ERROR(
-      db_->Exec("UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0 "
-                "WHERE state = 'RUNNING'"));
+  SEEP_ASSIGN_OR_RETURN(const JobRecord job, GetLocked(id, /*with_scene=*/false));
+  if (IsTerminal(job.state)) {
+    return core::FailedPrecondition(
+        fmt::format("job {} is already {}; only QUEUED or RUNNING jobs can be cancelled", id,
+                    JobStateName(job.state)));
+  }
+  if (job.state == JobState::kQueued) {
+    SEEP_ASSIGN_OR_RETURN(
+        Stmt s, db_->Prepare("UPDATE jobs SET state = 'CANCELLED', finished_at_ms = ?, "
+                             "error_code = 'CANCELLED', error_message = 'cancelled before it "
+                             "started' WHERE id = ? AND state = 'QUEUED'"));
+    s.Bind(1, now_ms).Bind(2, std::string_view(id));
+    SEEP_RETURN_IF_ERROR(s.Run());
+  } else {
+    SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("UPDATE jobs SET cancel_requested = 1 WHERE id = ? "
+                                               "AND state = 'RUNNING'"));
+    s.Bind(1, std::string_view(id));
+    SEEP_RETURN_IF_ERROR(s.Run());
+  }
+  SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return now;
+}
+
+Result<JobRecord> JobStore::Resume(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_ASSIGN_OR_RETURN(const JobRecord job, GetLocked(id, /*with_scene=*/false));
+  if (job.state != JobState::kFailed && job.state != JobState::kCancelled) {
+    return core::FailedPrecondition(fmt::format(
+        "job {} is {}; only FAILED or CANCELLED jobs can be resumed", id, JobStateName(job.state)));
+  }
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare("UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
+                           "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
+                           "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
+                           "error_message = '', wall_time_s = 0, lease_owner = NULL, "
+                           "lease_expires_at_ms = NULL WHERE id = ?"));
+  s.Bind(1, std::string_view(id));
+  SEEP_RETURN_IF_ERROR(s.Run());
+  SEEP_ASSIGN_OR_RETURN(Stmt clear, db_->Prepare("DELETE FROM results WHERE job_id = ?"));
+  clear.Bind(1, std::string_view(id));
+  SEEP_RETURN_IF_ERROR(clear.Run());
+  SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return now;
+}
+
+Result<int> JobStore::RequeueRunning(const std::string& current_owner) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  // A cancel that was pending when the previous process stopped is honoured now.
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt cancel,
+      db_->Prepare(
+          "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = "
+          "'cancelled while seepd was stopped', finished_at_ms = strftime('%s', 'now') * 1000, "
+          "lease_expires_at_ms = NULL WHERE state = "
+          "'RUNNING' AND cancel_requested = 1 AND lease_owner IS NOT ?"));
+  cancel.Bind(1, std::string_view(current_owner));
+  SEEP_RETURN_IF_ERROR(cancel.Run());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s,
+      db_->Prepare("UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
+                   "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND "
+                   "lease_owner IS NOT ?"));
+  s.Bind(1, std::string_view(current_owner));
+  SEEP_RETURN_IF_ERROR(s.Run());
   const int n = static_cast<int>(db_->Changes());
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return n;

@@ -25,6 +25,12 @@ struct InsertOutcome {
   bool created = false;  // false: request_id matched an existing job, which is returned
 };
 
+// Which jobs List returns; empty members do not filter.
+struct JobFilter {
+  std::vector<JobState> states;
+  std::string name_contains;
+};
+
 struct JobPage {
   std::vector<JobRecord> jobs;  // newest first, scenes left empty
   std::optional<std::int64_t> next_cursor;
@@ -32,7 +38,7 @@ struct JobPage {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
   ~JobStore();
 
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
@@ -40,18 +46,35 @@ class JobStore {
   // Stores a new QUEUED job; with a request_id already present, returns that job instead.
   Result<InsertOutcome> Insert(const JobRecord& job);
   Result<JobRecord> Get(const std::string& id);
-  // Newest first; cursor is the next_cursor of the previous page.
-  Result<JobPage> List(std::uint32_t limit, std::optional<std::int64_t> cursor);
-  // Moves the oldest QUEUED job to RUNNING and returns it.
-  Result<std::optional<JobRecord>> ClaimNextQueued(std::int64_t now_ms);
-  Status UpdateProgress(const std::string& id, const JobProgress& progress);
-  // Moves a RUNNING job to a terminal state with its metrics, in one transaction.
-  Status Finish(const std::string& id, JobState state, const std::string& error_code,
-                const std::string& error_message,
+  // Newest first; cursor is the next_cursor of the previous page (with the same filter).
+  Result<JobPage> List(std::uint32_t limit, std::optional<std::int64_t> cursor,
+                       const JobFilter& filter = {});
+
+  // Moves the oldest QUEUED job to RUNNING under a new lease held by owner until
+  // now_ms + lease_ms (lease_epoch + 1) and returns it.
+  Result<std::optional<JobRecord>> ClaimNextQueued(const std::string& owner, std::int64_t now_ms,
+                                                   std::int64_t lease_ms);
+  // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
+  // over (or whose job is no longer RUNNING) gets ABORTED and must stop the job.
+  // Heartbeat extends the lease and returns whether a cancel was requested.
+  Result<bool> Heartbeat(const std::string& id, std::int64_t epoch, std::int64_t expires_at_ms);
+  Status UpdateProgress(const std::string& id, std::int64_t epoch, const JobProgress& progress);
+  // Moves the RUNNING job to a terminal state with its metrics, in one transaction.
+  Status Finish(const std::string& id, std::int64_t epoch, JobState state,
+                const std::string& error_code, const std::string& error_message,
                 const std::vector<std::pair<std::string, double>>& metrics, double wall_time_s,
                 std::int64_t now_ms);
-  // At start-up: jobs left RUNNING by a previous process go back to QUEUED. Returns how many.
-  Result<int> RequeueRunning();
+
+  // QUEUED -> CANCELLED at once; RUNNING -> cancel_requested (the worker finishes it); a terminal
+  // job -> FAILED_PRECONDITION; unknown -> NOT_FOUND. Returns the job as it is now.
+  Result<JobRecord> Cancel(const std::string& id, std::int64_t now_ms);
+  // FAILED or CANCELLED -> QUEUED as the next attempt, its outcome cleared; other states ->
+  // FAILED_PRECONDITION; unknown -> NOT_FOUND. Returns the job as it is now.
+  Result<JobRecord> Resume(const std::string& id);
+
+  // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
+  // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
+  Result<int> RequeueRunning(const std::string& current_owner);
 
  private:
   explicit JobStore(std::unique_ptr<Db> db);

@@ -81,6 +81,32 @@ void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m
   m["max_pressure_pa"] = *hi;
 }
 
+// Radial boundary: the rate out of the well into the sample and into the outer reservoir.
+void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
+  const FlowNetwork& f = net.flow;
+  const auto p = f.pressure();
+  double from_well = 0.0;
+  double into_outer = 0.0;
+  for (std::size_t k = 0; k < f.num_pipes(); ++k) {
+    const std::int32_t a = f.pipe_domain_a()[k];
+    const std::int32_t b = f.pipe_domain_b()[k];
+    // q flows from b into a.
+    const double q =
+        f.pipe_conductance()[k] * (p[static_cast<std::size_t>(b)] - p[static_cast<std::size_t>(a)]);
+    if (b == net.well_domain) from_well += q;
+    if (a == net.well_domain) from_well -= q;
+    if (b == net.outer_node) into_outer -= q;
+    if (a == net.outer_node) into_outer += q;
+  }
+  m["well_flow_rate_m2_per_s"] = from_well;
+  m["outer_flow_rate_m2_per_s"] = into_outer;
+  m["outer_reservoir_radius_m"] = net.outer_reservoir_radius_m;
+  m["well_area_m2"] = net.domains.apparent_volume[static_cast<std::size_t>(net.well_domain)];
+  const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+  m["min_pressure_pa"] = *lo;
+  m["max_pressure_pa"] = *hi;
+}
+
 Status RunSteady(SceneNetwork& net, Metrics& m) {
   SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(net.flow));
   m["mass_balance_error"] = report.mass_balance_error;
@@ -127,11 +153,19 @@ Result<RunReport> RunScene(const SceneSpec& scene, const RunControl& control) {
   SEEP_RETURN_IF_ERROR(ValidateScene(scene));
   const auto log = control.logger ? control.logger : Logger();
   SEEP_ASSIGN_OR_RETURN(SceneNetwork net, BuildSceneNetwork(scene));
-  log->info(
-      "network: {} particles, {} contacts, {} domains, {} pipes ({} to the inlet, {} to the "
-      "outlet)",
-      net.packing.size(), net.contacts.size(), net.domains.num_domains(), net.flow.num_pipes(),
-      net.inlet_pipes, net.outlet_pipes);
+  if (scene.boundary.radial) {
+    log->info(
+        "network: {} particles, {} contacts, {} domains, {} pipes ({} to the outer reservoir; "
+        "well domain {})",
+        net.packing.size(), net.contacts.size(), net.domains.num_domains(), net.flow.num_pipes(),
+        net.outer_pipes, net.well_domain);
+  } else {
+    log->info(
+        "network: {} particles, {} contacts, {} domains, {} pipes ({} to the inlet, {} to the "
+        "outlet)",
+        net.packing.size(), net.contacts.size(), net.domains.num_domains(), net.flow.num_pipes(),
+        net.inlet_pipes, net.outlet_pipes);
+  }
 
   Metrics m;
   RunReport run;
@@ -182,7 +216,13 @@ Result<RunReport> RunScene(const SceneSpec& scene, const RunControl& control) {
     if (control.on_progress) control.on_progress({1, 0.0, 1.0});
   }
 
-  AddDarcyMetrics(scene, net, m);
+  if (scene.boundary.radial) {
+    AddRadialMetrics(net, m);
+  } else {
+    AddDarcyMetrics(scene, net, m);
+    m["sample_length_m"] = net.length_m;
+    m["sample_width_m"] = net.width_m;
+  }
   double pore = 0.0;
   double apparent = 0.0;
   for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
@@ -194,8 +234,6 @@ Result<RunReport> RunScene(const SceneSpec& scene, const RunControl& control) {
   m["domain_count"] = static_cast<double>(net.domains.num_domains());
   m["pipe_count"] = static_cast<double>(net.flow.num_pipes());
   m["porosity_2d"] = apparent > 0.0 ? pore / apparent : 0.0;
-  m["sample_length_m"] = net.length_m;
-  m["sample_width_m"] = net.width_m;
   m["steps"] = static_cast<double>(run.steps);
   m["simulated_time_s"] = run.time_s;
   run.metrics.assign(m.begin(), m.end());

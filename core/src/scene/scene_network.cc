@@ -53,6 +53,154 @@ double AxisCoordinate(FlowAxis axis, const Packing& p, std::size_t i) {
   return axis == FlowAxis::kX ? p.x[i] : p.y[i];
 }
 
+// A rigid, unloaded packing: no contact force, so a = a0 + m g (eq. 3).
+Status FillConductances(const SceneSpec& scene, const std::vector<double>& gaps,
+                        FlowNetworkData& data) {
+  ApertureLaw law;
+  law.residual_aperture = scene.aperture.residual_aperture_m;
+  law.reference_force =
+      scene.aperture.reference_force_n > 0.0 ? scene.aperture.reference_force_n : 1.0;
+  law.gap_multiplier = scene.aperture.gap_multiplier;
+  if (scene.aperture.max_aperture_m > 0.0) law.max_aperture = scene.aperture.max_aperture_m;
+  const std::size_t num_pipes = data.pipe_length.size();
+  const std::vector<double> no_force(num_pipes, 0.0);
+  data.pipe_aperture.assign(num_pipes, 0.0);
+  data.pipe_conductance.assign(num_pipes, 0.0);
+  return FillAperturesAndConductances(law, scene.fluid.viscosity_pa_s, no_force, gaps,
+                                      data.pipe_length, data.pipe_aperture, data.pipe_conductance);
+}
+
+// Keeps the particles whose centre lies in [well_radius, outer_radius] of the centre of the
+// particles' bounding box.
+Status CutAnnulus(const RadialBoundarySpec& radial, SceneNetwork& net) {
+  const Packing& full = net.packing;
+  const auto [x_lo, x_hi] = std::minmax_element(full.x.begin(), full.x.end());
+  const auto [y_lo, y_hi] = std::minmax_element(full.y.begin(), full.y.end());
+  net.well_x_m = 0.5 * (*x_lo + *x_hi);
+  net.well_y_m = 0.5 * (*y_lo + *y_hi);
+  Packing cut;
+  cut.Reserve(full.size());
+  std::size_t in_well = 0;
+  for (std::size_t i = 0; i < full.size(); ++i) {
+    const double r = std::hypot(full.x[i] - net.well_x_m, full.y[i] - net.well_y_m);
+    if (r < radial.well_radius_m) {
+      ++in_well;
+    } else if (r <= radial.outer_radius_m) {
+      cut.Add(full.x[i], full.y[i], full.radius[i]);
+    }
+  }
+  if (in_well == 0) {
+    return InvalidArgument(fmt::format(
+        "scene.boundary.radial.well_radius_m: no particle lies within {} m of the sample centre "
+        "({}, {}); the well removes nothing",
+        radial.well_radius_m, net.well_x_m, net.well_y_m));
+  }
+  if (cut.size() < 3) {
+    return InvalidArgument(
+        fmt::format("scene.boundary.radial: only {} particles lie between well_radius_m = {} and "
+                    "outer_radius_m = {} of the sample centre",
+                    cut.size(), radial.well_radius_m, radial.outer_radius_m));
+  }
+  net.packing = std::move(cut);
+  return Status::Ok();
+}
+
+// Crossing-number test of a point against domain d's loop of particle centres.
+bool LoopContains(const Packing& p, const DomainNetwork& d, std::size_t domain, double x,
+                  double y) {
+  bool inside = false;
+  const auto begin = static_cast<std::size_t>(d.loop_offsets[domain]);
+  const auto end = static_cast<std::size_t>(d.loop_offsets[domain + 1]);
+  for (std::size_t k = begin; k < end; ++k) {
+    const auto i = static_cast<std::size_t>(d.loop_particles[k]);
+    const auto j = static_cast<std::size_t>(d.loop_particles[k + 1 < end ? k + 1 : begin]);
+    if ((p.y[i] > y) != (p.y[j] > y) &&
+        x < p.x[i] + (y - p.y[i]) * (p.x[j] - p.x[i]) / (p.y[j] - p.y[i])) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
+  const RadialBoundarySpec& radial = *scene.boundary.radial;
+  const Packing& p = net.packing;
+  const DomainNetwork& d = net.domains;
+  const std::size_t num_domains = d.num_domains();
+  // The well: the smallest domain whose loop encloses the sample centre.
+  for (std::size_t k = 0; k < num_domains; ++k) {
+    if (!LoopContains(p, d, k, net.well_x_m, net.well_y_m)) continue;
+    if (net.well_domain < 0 ||
+        d.apparent_volume[k] < d.apparent_volume[static_cast<std::size_t>(net.well_domain)]) {
+      net.well_domain = static_cast<std::int32_t>(k);
+    }
+  }
+  if (net.well_domain < 0) {
+    return FailedPrecondition(fmt::format(
+        "scene.boundary.radial.well_radius_m: the particles around the hole of radius {} m do "
+        "not close a loop around it (no well domain); lower well_radius_m or use a denser "
+        "packing",
+        radial.well_radius_m));
+  }
+
+  FlowNetworkData data;
+  const std::size_t nodes = num_domains + 1;
+  net.outer_node = static_cast<std::int32_t>(num_domains);
+  data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
+  data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
+  data.apparent_volume.resize(nodes, 0.0);
+  data.pore_volume.resize(nodes, 0.0);
+  data.pressure.assign(nodes, scene.boundary.initial_pressure_pa);
+  data.role.assign(nodes, DomainRole::kFree);
+  const auto well = static_cast<std::size_t>(net.well_domain);
+  data.pressure[well] = radial.well_pressure_pa;
+  data.role[well] = DomainRole::kFixedPressure;
+  data.pressure[num_domains] = radial.outer_pressure_pa;
+  data.role[num_domains] = DomainRole::kFixedPressure;
+  data.source_rate.assign(nodes, 0.0);
+
+  std::vector<double> gaps;
+  for (std::size_t k = 0; k < d.num_pipes(); ++k) {
+    data.pipe_domain_a.push_back(d.pipe_domain_a[k]);
+    data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
+    data.pipe_length.push_back(d.pipe_length[k]);
+    gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.pipe_contact[k])]);
+  }
+  // Every contact of a top-level outer loop drains into the outer reservoir. The reservoir's
+  // radius is the conductance-weighted mean distance of the images of the interior centroids
+  // reflected through the contact points (as for the linear ends, see the header).
+  std::vector<double> image_radius;
+  const std::size_t first_outer_pipe = data.pipe_length.size();
+  for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
+    if (d.outer_host_domain[static_cast<std::size_t>(d.boundary_pipe_outer_face[k])] >= 0) continue;
+    const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
+    data.pipe_domain_a.push_back(d.boundary_pipe_domain[k]);
+    data.pipe_domain_b.push_back(net.outer_node);
+    data.pipe_length.push_back(d.boundary_pipe_length[k]);
+    gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.boundary_pipe_contact[k])]);
+    image_radius.push_back(
+        std::hypot(2.0 * d.boundary_pipe_x[k] - d.centroid_x[host] - net.well_x_m,
+                   2.0 * d.boundary_pipe_y[k] - d.centroid_y[host] - net.well_y_m));
+    ++net.outer_pipes;
+  }
+  if (net.outer_pipes == 0) {
+    return FailedPrecondition(
+        "scene.boundary.radial.outer_radius_m: the cut sample has no hull contact to connect to "
+        "the outer reservoir");
+  }
+  SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
+  double weighted = 0.0;
+  double weight = 0.0;
+  for (std::size_t k = 0; k < image_radius.size(); ++k) {
+    const double c = data.pipe_conductance[first_outer_pipe + k];
+    weighted += c * image_radius[k];
+    weight += c;
+  }
+  net.outer_reservoir_radius_m = weight > 0.0 ? weighted / weight : 0.0;
+  SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<Packing> BuildScenePacking(const PackingSpec& spec) {
@@ -62,6 +210,7 @@ Result<Packing> BuildScenePacking(const PackingSpec& spec) {
 Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   SceneNetwork net;
   SEEP_ASSIGN_OR_RETURN(net.packing, BuildScenePacking(scene.packing));
+  if (scene.boundary.radial) SEEP_RETURN_IF_ERROR(CutAnnulus(*scene.boundary.radial, net));
   const Packing& p = net.packing;
   const std::size_t n = p.size();
   double radius_sum = 0.0;
@@ -81,6 +230,10 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
         "scene.packing: the contact graph encloses no domain (no closed loop of touching "
         "particles); raise packing.contact_gap_m or use a denser packing");
   }
+  if (scene.boundary.radial) {
+    SEEP_RETURN_IF_ERROR(ConnectRadialBoundary(scene, net));
+    return net;
+  }
 
   // The sample's ends along the axis, from the particles' surfaces.
   const FlowAxis axis = scene.boundary.axis;
@@ -90,17 +243,8 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     low = std::min(low, AxisCoordinate(axis, p, i) - p.radius[i]);
     high = std::max(high, AxisCoordinate(axis, p, i) + p.radius[i]);
   }
-  net.length_m = high - low;
-  double centre_low = std::numeric_limits<double>::infinity();
-  double centre_high = -centre_low;
-  for (std::int32_t particle : d.loop_particles) {
-    centre_low = std::min(centre_low, AxisCoordinate(axis, p, static_cast<std::size_t>(particle)));
-    centre_high =
-        std::max(centre_high, AxisCoordinate(axis, p, static_cast<std::size_t>(particle)));
-  }
   double domain_area = 0.0;
   for (double v : d.apparent_volume) domain_area += v;
-  net.width_m = centre_high > centre_low ? domain_area / (centre_high - centre_low) : 0.0;
 
   FlowNetworkData data;
   const std::size_t nodes = num_domains + 2;
@@ -128,6 +272,13 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   for (std::size_t k = 0; k < d.num_pipes(); ++k) {
     add_pipe(d.pipe_domain_a[k], d.pipe_domain_b[k], d.pipe_contact[k], d.pipe_length[k]);
   }
+  struct EndPipe {
+    std::size_t pipe;
+    bool inlet;
+    double face;       // axis coordinate of the contact point
+    double reservoir;  // the interior centroid reflected through the contact point
+  };
+  std::vector<EndPipe> end_pipes;
   // Edge layer: particles whose extreme coordinate lies within one mean radius of the end.
   const double layer = net.mean_radius_m * (1.0 + 1e-9);
   for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
@@ -142,6 +293,10 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     if (at_inlet == at_outlet) continue;  // a side wall, or a sample one particle long
     add_pipe(d.boundary_pipe_domain[k], at_inlet ? net.inlet_node : net.outlet_node,
              d.boundary_pipe_contact[k], d.boundary_pipe_length[k]);
+    const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
+    const double face = axis == FlowAxis::kX ? d.boundary_pipe_x[k] : d.boundary_pipe_y[k];
+    const double centroid = axis == FlowAxis::kX ? d.centroid_x[host] : d.centroid_y[host];
+    end_pipes.push_back({data.pipe_length.size() - 1, at_inlet, face, 2.0 * face - centroid});
     ++(at_inlet ? net.inlet_pipes : net.outlet_pipes);
   }
   if (net.inlet_pipes == 0 || net.outlet_pipes == 0) {
@@ -151,20 +306,29 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
         net.inlet_pipes, net.outlet_pipes));
   }
 
-  // A rigid, unloaded packing: no contact force, so a = a0 + m g (eq. 3).
-  ApertureLaw law;
-  law.residual_aperture = scene.aperture.residual_aperture_m;
-  law.reference_force =
-      scene.aperture.reference_force_n > 0.0 ? scene.aperture.reference_force_n : 1.0;
-  law.gap_multiplier = scene.aperture.gap_multiplier;
-  if (scene.aperture.max_aperture_m > 0.0) law.max_aperture = scene.aperture.max_aperture_m;
-  const std::size_t num_pipes = data.pipe_length.size();
-  const std::vector<double> no_force(num_pipes, 0.0);
-  data.pipe_aperture.assign(num_pipes, 0.0);
-  data.pipe_conductance.assign(num_pipes, 0.0);
-  SEEP_RETURN_IF_ERROR(FillAperturesAndConductances(law, scene.fluid.viscosity_pa_s, no_force, gaps,
-                                                    data.pipe_length, data.pipe_aperture,
-                                                    data.pipe_conductance));
+  SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
+
+  // Darcy geometry (see the header): conductance-weighted reservoir positions, plain-mean faces.
+  double face_sum[2] = {0.0, 0.0};
+  double reservoir_sum[2] = {0.0, 0.0};
+  double weight_sum[2] = {0.0, 0.0};
+  double count[2] = {0.0, 0.0};
+  for (const EndPipe& e : end_pipes) {
+    const int side = e.inlet ? 0 : 1;
+    const double c = data.pipe_conductance[e.pipe];
+    face_sum[side] += e.face;
+    count[side] += 1.0;
+    reservoir_sum[side] += c * e.reservoir;
+    weight_sum[side] += c;
+  }
+  if (!(weight_sum[0] > 0.0) || !(weight_sum[1] > 0.0)) {
+    return FailedPrecondition(
+        "scene.boundary.axis: the pipes to the inlet or the outlet reservoir carry no flow (zero "
+        "conductance)");
+  }
+  net.length_m = reservoir_sum[1] / weight_sum[1] - reservoir_sum[0] / weight_sum[0];
+  const double face_span = face_sum[1] / count[1] - face_sum[0] / count[0];
+  net.width_m = face_span > 0.0 ? domain_area / face_span : 0.0;
   SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
   return net;
 }

@@ -149,6 +149,19 @@ Status ValidateScene(const SceneSpec& scene) {
       RequireFinite("boundary.outlet_pressure_pa", scene.boundary.outlet_pressure_pa));
   SEEP_RETURN_IF_ERROR(
       RequireFinite("boundary.initial_pressure_pa", scene.boundary.initial_pressure_pa));
+  if (const auto& radial = scene.boundary.radial) {
+    SEEP_RETURN_IF_ERROR(RequirePositive("boundary.radial.well_radius_m", radial->well_radius_m));
+    SEEP_RETURN_IF_ERROR(RequirePositive("boundary.radial.outer_radius_m", radial->outer_radius_m));
+    if (radial->outer_radius_m <= radial->well_radius_m) {
+      return InvalidArgument(
+          fmt::format("scene.boundary.radial.outer_radius_m: must be > well_radius_m ({} <= {})",
+                      radial->outer_radius_m, radial->well_radius_m));
+    }
+    SEEP_RETURN_IF_ERROR(
+        RequireFinite("boundary.radial.well_pressure_pa", radial->well_pressure_pa));
+    SEEP_RETURN_IF_ERROR(
+        RequireFinite("boundary.radial.outer_pressure_pa", radial->outer_pressure_pa));
+  }
   if (scene.solver.kind != SolverKind::kSteady) {
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));

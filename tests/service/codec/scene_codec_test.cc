@@ -3,12 +3,20 @@
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <ostream>
+#include <sstream>
+#include <string>
+
+#include "bad_scenes.h"
 
 namespace seep::service {
 namespace {
+
+using testing::BadScene;
 
 v1::Scene ValidScene() {
   v1::Scene scene;
@@ -44,14 +52,50 @@ TEST(SceneCodec, ConvertsAValidScene) {
   EXPECT_DOUBLE_EQ(spec->boundary.inlet_pressure_pa, 1e5);
 }
 
-struct BadScene {
-  const char* name;  // the test name suffix
-  std::function<void(v1::Scene&)> mutate;
-  const char* field;  // the message must start with this path
-};
+// Turns the valid scene into a valid radial one.
+void MakeRadial(v1::Scene& scene) {
+  auto* b = scene.mutable_boundary();
+  b->clear_axis();
+  b->clear_inlet_pressure_pa();
+  auto* radial = b->mutable_radial();
+  radial->set_well_radius_m(3e-3);
+  radial->set_outer_radius_m(2e-2);
+  radial->set_well_pressure_pa(2e5);
+  radial->set_outer_pressure_pa(1e5);
+}
 
-// Keeps CTest's test names readable (gtest prints the parameter into the listing).
-void PrintTo(const BadScene& bad, std::ostream* os) { *os << bad.name; }
+TEST(SceneCodec, ConvertsARadialBoundary) {
+  v1::Scene scene = ValidScene();
+  MakeRadial(scene);
+  auto spec = SceneFromProto(scene);
+  ASSERT_TRUE(spec.ok()) << spec.status().ToString();
+  ASSERT_TRUE(spec->boundary.radial.has_value());
+  EXPECT_DOUBLE_EQ(spec->boundary.radial->well_radius_m, 3e-3);
+  EXPECT_DOUBLE_EQ(spec->boundary.radial->outer_radius_m, 2e-2);
+  EXPECT_DOUBLE_EQ(spec->boundary.radial->well_pressure_pa, 2e5);
+  EXPECT_DOUBLE_EQ(spec->boundary.radial->outer_pressure_pa, 1e5);
+  EXPECT_FALSE(SceneFromProto(ValidScene())->boundary.radial.has_value());
+}
+
+// The scenes shipped in examples/ parse and pass validation (found from this file's path, so
+// the test needs no build-time definition).
+TEST(SceneCodec, ConvertsTheExampleScenes) {
+  const std::filesystem::path examples =
+      std::filesystem::path(__FILE__).parent_path() / "../../../examples";
+  for (const char* name : {"darcy_square_lattice.textproto", "darcy_random_packing.textproto",
+                           "thiem_radial.textproto"}) {
+    SCOPED_TRACE(name);
+    std::ifstream in(examples / name);
+    ASSERT_TRUE(in.good()) << (examples / name);
+    std::stringstream text;
+    text << in.rdbuf();
+    v1::Scene scene;
+    ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene));
+    auto spec = SceneFromProto(scene);
+    ASSERT_TRUE(spec.ok()) << spec.status().ToString();
+    EXPECT_EQ(spec->boundary.radial.has_value(), std::string(name) == "thiem_radial.textproto");
+  }
+}
 
 class SceneCodecRejects : public ::testing::TestWithParam<BadScene> {};
 
@@ -68,118 +112,51 @@ TEST_P(SceneCodecRejects, NamesTheField) {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+INSTANTIATE_TEST_SUITE_P(CommonScenes, SceneCodecRejects,
+                         ::testing::ValuesIn(testing::CommonBadScenes()),
+                         [](const ::testing::TestParamInfo<BadScene>& param_info) {
+                           return std::string(param_info.param.name);
+                         });
+
 INSTANTIATE_TEST_SUITE_P(
-    BadScenes, SceneCodecRejects,
-    ::testing::Values(
-        BadScene{"NoPacking", [](v1::Scene& s) { s.clear_packing(); }, "scene.packing:"},
-        BadScene{"LatticeKindUnset",
-                 [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->clear_kind(); },
-                 "scene.packing.lattice.kind:"},
-        BadScene{"OneColumn",
-                 [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_columns(1); },
-                 "scene.packing.lattice.columns:"},
-        BadScene{"NoRows",
-                 [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_rows(0); },
-                 "scene.packing.lattice.rows:"},
-        BadScene{"NegativeRadius",
-                 [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_radius_m(-1); },
-                 "scene.packing.lattice.radius_m:"},
-        BadScene{"NaNRadius",
-                 [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_radius_m(kNaN); },
-                 "scene.packing.lattice.radius_m:"},
-        BadScene{"HugeLattice",
-                 [](v1::Scene& s) {
-                   s.mutable_packing()->mutable_lattice()->set_columns(100000);
-                   s.mutable_packing()->mutable_lattice()->set_rows(100000);
-                 },
-                 "scene.packing.lattice:"},
-        BadScene{"ParticleArraysOfUnequalLength",
-                 [](v1::Scene& s) {
-                   auto* p = s.mutable_packing()->mutable_particles();
-                   for (int i = 0; i < 3; ++i) {
-                     p->add_x_m(i);
-                     p->add_y_m(0);
-                     p->add_radius_m(0.5);
-                   }
-                   p->add_x_m(4);
-                 },
-                 "scene.packing.particles:"},
-        BadScene{"ParticleWithZeroRadius",
-                 [](v1::Scene& s) {
-                   auto* p = s.mutable_packing()->mutable_particles();
-                   for (int i = 0; i < 3; ++i) {
-                     p->add_x_m(i);
-                     p->add_y_m(0);
-                     p->add_radius_m(i == 2 ? 0.0 : 0.5);
-                   }
-                 },
-                 "scene.packing.particles[2].radius_m:"},
-        BadScene{"RandomPorosityAboveOne",
-                 [](v1::Scene& s) {
-                   auto* r = s.mutable_packing()->mutable_random();
-                   r->set_width_m(1);
-                   r->set_height_m(1);
-                   r->set_min_radius_m(0.01);
-                   r->set_max_radius_m(0.02);
-                   r->set_particle_count(100);
-                   r->set_target_porosity(1.5);
-                 },
-                 "scene.packing.random.target_porosity:"},
-        BadScene{"RandomRadiiSwapped",
-                 [](v1::Scene& s) {
-                   auto* r = s.mutable_packing()->mutable_random();
-                   r->set_width_m(1);
-                   r->set_height_m(1);
-                   r->set_min_radius_m(0.02);
-                   r->set_max_radius_m(0.01);
-                   r->set_particle_count(100);
-                   r->set_target_porosity(0.2);
-                 },
-                 "scene.packing.random.max_radius_m:"},
-        BadScene{"RandomWithoutTarget",
-                 [](v1::Scene& s) {
-                   auto* r = s.mutable_packing()->mutable_random();
-                   r->set_width_m(1);
-                   r->set_height_m(1);
-                   r->set_min_radius_m(0.01);
-                   r->set_max_radius_m(0.02);
-                   r->set_particle_count(100);
-                 },
-                 "scene.packing.random.target:"},
-        BadScene{"NegativeContactGap",
-                 [](v1::Scene& s) { s.mutable_packing()->set_contact_gap_m(-1); },
-                 "scene.packing.contact_gap_m:"},
-        BadScene{"ZeroViscosity", [](v1::Scene& s) { s.mutable_fluid()->set_viscosity_pa_s(0); },
-                 "scene.fluid.viscosity_pa_s:"},
-        BadScene{"InfiniteBulkModulus",
-                 [](v1::Scene& s) { s.mutable_fluid()->set_bulk_modulus_pa(kInf); },
-                 "scene.fluid.bulk_modulus_pa:"},
-        BadScene{"NoResidualAperture",
-                 [](v1::Scene& s) { s.mutable_aperture()->set_residual_aperture_m(0); },
-                 "scene.aperture.residual_aperture_m:"},
-        BadScene{"NegativeGapMultiplier",
-                 [](v1::Scene& s) { s.mutable_aperture()->set_gap_multiplier(-0.1); },
-                 "scene.aperture.gap_multiplier:"},
-        BadScene{"CapBelowA0", [](v1::Scene& s) { s.mutable_aperture()->set_max_aperture_m(1e-6); },
-                 "scene.aperture.max_aperture_m:"},
-        BadScene{"AxisUnset", [](v1::Scene& s) { s.mutable_boundary()->clear_axis(); },
-                 "scene.boundary.axis:"},
-        BadScene{"NaNInletPressure",
-                 [](v1::Scene& s) { s.mutable_boundary()->set_inlet_pressure_pa(kNaN); },
-                 "scene.boundary.inlet_pressure_pa:"},
-        BadScene{"SolverKindUnset", [](v1::Scene& s) { s.mutable_solver()->clear_kind(); },
-                 "scene.solver.kind:"},
-        BadScene{"TransientWithoutStorage",
-                 [](v1::Scene& s) { s.mutable_solver()->clear_storage(); },
-                 "scene.solver.storage:"},
-        BadScene{"NoEndTime", [](v1::Scene& s) { s.mutable_solver()->set_end_time_s(0); },
-                 "scene.solver.end_time_s:"},
-        BadScene{"ExplicitAboveTheCriticalStep",
-                 [](v1::Scene& s) {
-                   s.mutable_solver()->set_kind(v1::SOLVER_KIND_EXPLICIT);
-                   s.mutable_solver()->set_dt_factor(1.5);
-                 },
-                 "scene.solver.dt_factor:"}),
+    RadialScenes, SceneCodecRejects,
+    ::testing::Values(BadScene{"RadialWithAxis",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->set_axis(v1::FLOW_AXIS_X);
+                               },
+                               "scene.boundary.axis:"},
+                      BadScene{"RadialWithInletPressure",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->set_inlet_pressure_pa(1);
+                               },
+                               "scene.boundary.inlet_pressure_pa:"},
+                      BadScene{"RadialWithoutWellRadius",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->mutable_radial()->clear_well_radius_m();
+                               },
+                               "scene.boundary.radial.well_radius_m:"},
+                      BadScene{"RadialOuterInsideWell",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->mutable_radial()->set_outer_radius_m(1e-3);
+                               },
+                               "scene.boundary.radial.outer_radius_m:"},
+                      BadScene{"RadialInfiniteWellPressure",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->mutable_radial()->set_well_pressure_pa(kInf);
+                               },
+                               "scene.boundary.radial.well_pressure_pa:"},
+                      BadScene{"RadialNaNOuterPressure",
+                               [](v1::Scene& s) {
+                                 MakeRadial(s);
+                                 s.mutable_boundary()->mutable_radial()->set_outer_pressure_pa(
+                                     kNaN);
+                               },
+                               "scene.boundary.radial.outer_pressure_pa:"}),
     [](const ::testing::TestParamInfo<BadScene>& param_info) {
       return std::string(param_info.param.name);
     });

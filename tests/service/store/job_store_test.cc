@@ -74,18 +74,20 @@ TEST_F(JobStoreTest, SameRequestIdReturnsTheFirstJob) {
 TEST_F(JobStoreTest, ClaimRunsOldestFirstAndFinishStoresMetrics) {
   ASSERT_TRUE(store_->Insert(NewJob("first")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("second")).ok());
-  auto claimed = store_->ClaimNextQueued(2000);
+  auto claimed = store_->ClaimNextQueued("w", 2000, 500);
   ASSERT_TRUE(claimed.ok());
   ASSERT_TRUE(claimed->has_value());
   EXPECT_EQ((*claimed)->id, "first");
   EXPECT_EQ((*claimed)->state, JobState::kRunning);
   EXPECT_EQ((*claimed)->started_at_ms, 2000);
+  const std::int64_t epoch = (*claimed)->lease_epoch;
 
-  ASSERT_TRUE(store_->UpdateProgress("first", {7, 0.5, 0.25, 3.0}).ok());
+  ASSERT_TRUE(store_->UpdateProgress("first", epoch, {7, 0.5, 0.25, 3.0}).ok());
   EXPECT_EQ(store_->Get("first")->progress.step, 7u);
-  ASSERT_TRUE(
-      store_->Finish("first", JobState::kSucceeded, "", "", {{"k", 1.5}, {"a", -2.0}}, 0.75, 3000)
-          .ok());
+  ASSERT_TRUE(store_
+                  ->Finish("first", epoch, JobState::kSucceeded, "", "", {{"k", 1.5}, {"a", -2.0}},
+                           0.75, 3000)
+                  .ok());
   auto done = store_->Get("first");
   ASSERT_TRUE(done.ok());
   EXPECT_EQ(done->state, JobState::kSucceeded);
@@ -95,13 +97,14 @@ TEST_F(JobStoreTest, ClaimRunsOldestFirstAndFinishStoresMetrics) {
   EXPECT_EQ(done->metrics[0].first, "a");  // sorted by name
   EXPECT_DOUBLE_EQ(done->metrics[0].second, -2.0);
   EXPECT_DOUBLE_EQ(done->metrics[1].second, 1.5);
-  // A finished job cannot finish again.
-  EXPECT_EQ(store_->Finish("first", JobState::kFailed, "X", "y", {}, 0, 4000).code(),
-            core::StatusCode::kFailedPrecondition);
+  // A finished job cannot finish again: its lease is gone.
+  EXPECT_EQ(store_->Finish("first", epoch, JobState::kFailed, "X", "y", {}, 0, 4000).code(),
+            core::StatusCode::kAborted);
+  EXPECT_EQ(store_->Get("first")->state, JobState::kSucceeded);
 }
 
 TEST_F(JobStoreTest, ListPagesNewestFirst) {
-  for (int i = 0; i < 5; ++i) ASSERT_TRUE(store_->Insert(NewJob("j" + std::to_string(i))).ok());
+  for (char i = '0'; i < '5'; ++i) ASSERT_TRUE(store_->Insert(NewJob(std::string{'j', i})).ok());
   auto first = store_->List(2, std::nullopt);
   ASSERT_TRUE(first.ok());
   ASSERT_EQ(first->jobs.size(), 2u);
@@ -120,14 +123,17 @@ TEST_F(JobStoreTest, ListPagesNewestFirst) {
 TEST_F(JobStoreTest, RunningJobsAreRequeuedAfterARestart) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
-  ASSERT_TRUE(store_->ClaimNextQueued(1).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("old-process", 1, 1000).ok());
   store_.reset();  // the process "dies" with a RUNNING
   auto reopened = JobStore::Open(path_);
   ASSERT_TRUE(reopened.ok());
-  auto n = (*reopened)->RequeueRunning();
+  auto n = (*reopened)->RequeueRunning("new-process");
   ASSERT_TRUE(n.ok());
   EXPECT_EQ(*n, 1);
-  EXPECT_EQ((*reopened)->Get("a")->state, JobState::kQueued);
+  auto a = (*reopened)->Get("a");
+  EXPECT_EQ(a->state, JobState::kQueued);
+  EXPECT_FALSE(a->lease_owner.has_value());
+  EXPECT_EQ((*reopened)->Get("b")->state, JobState::kQueued);
 }
 
 TEST_F(JobStoreTest, RefusesADatabaseFromANewerSchema) {
@@ -140,6 +146,258 @@ TEST_F(JobStoreTest, RefusesADatabaseFromANewerSchema) {
   ASSERT_FALSE(reopened.ok());
   EXPECT_EQ(reopened.status().code(), core::StatusCode::kFailedPrecondition);
   EXPECT_NE(reopened.status().message().find("schema version 99"), std::string::npos);
+}
+
+TEST_F(JobStoreTest, SameRequestIdWithAnotherSceneIsAlreadyExists) {
+  ASSERT_TRUE(store_->Insert(NewJob("a", "req-1")).ok());
+  JobRecord other = NewJob("b", "req-1");
+  other.scene = "different";
+  auto again = store_->Insert(other);
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.status().code(), core::StatusCode::kAlreadyExists);
+  EXPECT_EQ(again.status().message().rfind("request_id: 'req-1'", 0), 0u)
+      << again.status().message();
+  EXPECT_EQ(store_->Get("b").status().code(), core::StatusCode::kNotFound);
+}
+
+TEST_F(JobStoreTest, ClaimTakesALeaseAndEveryClaimRaisesTheEpoch) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  auto first = store_->ClaimNextQueued("w1", 100, 30);
+  ASSERT_TRUE(first.ok() && first->has_value());
+  EXPECT_EQ((*first)->lease_owner, "w1");
+  EXPECT_EQ((*first)->lease_epoch, 1);
+  EXPECT_EQ((*first)->lease_expires_at_ms, 130);
+  EXPECT_EQ((*first)->attempt, 1u);
+  // Nothing else is queued.
+  auto none = store_->ClaimNextQueued("w1", 100, 30);
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(none->has_value());
+
+  auto cancel = store_->Heartbeat("a", 1, 500);
+  ASSERT_TRUE(cancel.ok()) << cancel.status().ToString();
+  EXPECT_FALSE(*cancel);
+  EXPECT_EQ(store_->Get("a")->lease_expires_at_ms, 500);
+
+  ASSERT_EQ(*store_->RequeueRunning("w2"), 1);
+  auto second = store_->ClaimNextQueued("w2", 200, 30);
+  ASSERT_TRUE(second.ok() && second->has_value());
+  EXPECT_EQ((*second)->lease_owner, "w2");
+  EXPECT_EQ((*second)->lease_epoch, 2);
+}
+
+TEST_F(JobStoreTest, AStaleEpochCannotWrite) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t stale = (*store_->ClaimNextQueued("old", 100, 30))->lease_epoch;
+  ASSERT_TRUE(store_->UpdateProgress("a", stale, {3, 0.1, 0.1, 0}).ok());
+  // The lease passes to a new claimant (as after a restart).
+  ASSERT_EQ(*store_->RequeueRunning("new"), 1);
+  const std::int64_t current = (*store_->ClaimNextQueued("new", 200, 30))->lease_epoch;
+  ASSERT_EQ(current, stale + 1);
+
+  EXPECT_EQ(store_->Heartbeat("a", stale, 999).status().code(), core::StatusCode::kAborted);
+  EXPECT_EQ(store_->UpdateProgress("a", stale, {50, 5.0, 0.9, 0}).code(),
+            core::StatusCode::kAborted);
+  EXPECT_EQ(store_->Finish("a", stale, JobState::kSucceeded, "", "", {{"k", 1.0}}, 1.0, 300).code(),
+            core::StatusCode::kAborted);
+  auto job = store_->Get("a");
+  ASSERT_TRUE(job.ok());
+  EXPECT_EQ(job->state, JobState::kRunning);
+  EXPECT_EQ(job->progress.step, 0u);  // the re-queue reset it; the stale write did not land
+  EXPECT_EQ(job->lease_expires_at_ms, 230);
+  EXPECT_TRUE(job->metrics.empty());
+
+  // The current holder writes normally.
+  ASSERT_TRUE(store_->UpdateProgress("a", current, {4, 0.2, 0.2, 0}).ok());
+  ASSERT_TRUE(
+      store_->Finish("a", current, JobState::kSucceeded, "", "", {{"k", 2.0}}, 1.0, 400).ok());
+  job = store_->Get("a");
+  EXPECT_EQ(job->state, JobState::kSucceeded);
+  ASSERT_EQ(job->metrics.size(), 1u);
+  EXPECT_DOUBLE_EQ(job->metrics[0].second, 2.0);
+}
+
+TEST_F(JobStoreTest, CancelQueuedIsImmediateAndTerminalOrUnknownJobsAreRefused) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  auto cancelled = store_->Cancel("a", 5000);
+  ASSERT_TRUE(cancelled.ok()) << cancelled.status().ToString();
+  EXPECT_EQ(cancelled->state, JobState::kCancelled);
+  EXPECT_EQ(cancelled->finished_at_ms, 5000);
+  EXPECT_EQ(cancelled->error_code, "CANCELLED");
+  // It is no longer claimable.
+  EXPECT_FALSE(store_->ClaimNextQueued("w", 1, 1)->has_value());
+
+  const Status again = store_->Cancel("a", 6000).status();
+  EXPECT_EQ(again.code(), core::StatusCode::kFailedPrecondition);
+  EXPECT_NE(again.message().find("already CANCELLED"), std::string::npos) << again.message();
+  EXPECT_EQ(store_->Cancel("missing", 1).status().code(), core::StatusCode::kNotFound);
+}
+
+TEST_F(JobStoreTest, CancelRunningIsRecordedByTheLeaseHolder) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
+  EXPECT_FALSE(*store_->Heartbeat("a", epoch, 200));
+  auto requested = store_->Cancel("a", 150);
+  ASSERT_TRUE(requested.ok());
+  EXPECT_EQ(requested->state, JobState::kRunning);
+  EXPECT_TRUE(requested->cancel_requested);
+  // The worker learns of it through its heartbeat, then records the outcome.
+  EXPECT_TRUE(*store_->Heartbeat("a", epoch, 300));
+  ASSERT_TRUE(
+      store_
+          ->Finish("a", epoch, JobState::kCancelled, "CANCELLED", "stopped at step 3", {}, 0.1, 400)
+          .ok());
+  auto job = store_->Get("a");
+  EXPECT_EQ(job->state, JobState::kCancelled);
+  EXPECT_EQ(job->error_message, "stopped at step 3");
+  EXPECT_EQ(store_->Cancel("a", 500).status().code(), core::StatusCode::kFailedPrecondition);
+}
+
+TEST_F(JobStoreTest, APendingCancelIsHonouredAfterARestart) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("old", 100, 30).ok());
+  ASSERT_TRUE(store_->Cancel("a", 150).ok());
+  EXPECT_EQ(*store_->RequeueRunning("new"), 0);
+  EXPECT_EQ(store_->Get("a")->state, JobState::kCancelled);
+}
+
+TEST_F(JobStoreTest, RequeueLeavesTheCurrentProcessesLeasesAlone) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 100, 30).ok());
+  EXPECT_EQ(*store_->RequeueRunning("me"), 0);
+  EXPECT_EQ(store_->Get("a")->state, JobState::kRunning);
+}
+
+TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
+  ASSERT_TRUE(store_->UpdateProgress("a", epoch, {9, 1.0, 0.5, 0}).ok());
+  ASSERT_TRUE(store_->Finish("a", epoch, JobState::kFailed, "INTERNAL", "boom", {}, 0.5, 200).ok());
+  ASSERT_TRUE(store_->Cancel("b", 300).ok());
+
+  auto a = store_->Resume("a");
+  ASSERT_TRUE(a.ok()) << a.status().ToString();
+  EXPECT_EQ(a->state, JobState::kQueued);
+  EXPECT_EQ(a->attempt, 2u);
+  EXPECT_EQ(a->error_code, "");
+  EXPECT_EQ(a->error_message, "");
+  EXPECT_EQ(a->progress.step, 0u);
+  EXPECT_FALSE(a->started_at_ms.has_value());
+  EXPECT_FALSE(a->finished_at_ms.has_value());
+  auto b = store_->Resume("b");
+  ASSERT_TRUE(b.ok());
+  EXPECT_EQ(b->state, JobState::kQueued);
+  EXPECT_EQ(b->attempt, 2u);
+
+  // The re-run is claimed with a new epoch and can finish this time.
+  auto again = store_->ClaimNextQueued("w", 400, 30);
+  ASSERT_TRUE(again.ok() && again->has_value());
+  EXPECT_EQ((*again)->id, "a");
+  EXPECT_EQ((*again)->lease_epoch, epoch + 1);
+
+  // QUEUED (b), RUNNING (a) and unknown jobs cannot be resumed.
+  EXPECT_EQ(store_->Resume("b").status().code(), core::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(store_->Resume("a").status().code(), core::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(store_->Resume("missing").status().code(), core::StatusCode::kNotFound);
+  ASSERT_TRUE(
+      store_->Finish("a", epoch + 1, JobState::kSucceeded, "", "", {{"k", 1}}, 0.5, 500).ok());
+  const Status done = store_->Resume("a").status();
+  EXPECT_EQ(done.code(), core::StatusCode::kFailedPrecondition);
+  EXPECT_NE(done.message().find("is SUCCEEDED"), std::string::npos) << done.message();
+  EXPECT_EQ(store_->Get("a")->attempt, 2u);
+}
+
+TEST_F(JobStoreTest, ListFiltersByStateAndNameAndStillPages) {
+  // names: name-alpha0, name-beta1, name-alpha2, name-beta3, name-alpha4 (oldest first)
+  for (int i = 0; i < 5; ++i) {
+    std::string id = i % 2 == 0 ? "alpha" : "beta";
+    id.append(1, static_cast<char>('0' + i));
+    JobRecord job = NewJob(id);
+    ASSERT_TRUE(store_->Insert(job).ok());
+  }
+  ASSERT_TRUE(store_->Cancel("alpha2", 1).ok());
+  ASSERT_TRUE(store_->Cancel("beta3", 1).ok());
+
+  auto cancelled = store_->List(10, std::nullopt, {{JobState::kCancelled}, ""});
+  ASSERT_TRUE(cancelled.ok()) << cancelled.status().ToString();
+  ASSERT_EQ(cancelled->jobs.size(), 2u);
+  EXPECT_EQ(cancelled->jobs[0].id, "beta3");
+  EXPECT_EQ(cancelled->jobs[1].id, "alpha2");
+
+  auto alpha = store_->List(10, std::nullopt, {{}, "alpha"});
+  ASSERT_EQ(alpha->jobs.size(), 3u);
+  EXPECT_EQ(alpha->jobs[0].id, "alpha4");
+
+  auto queued_alpha = store_->List(10, std::nullopt, {{JobState::kQueued}, "alpha"});
+  ASSERT_EQ(queued_alpha->jobs.size(), 2u);
+  EXPECT_EQ(queued_alpha->jobs[0].id, "alpha4");
+  EXPECT_EQ(queued_alpha->jobs[1].id, "alpha0");
+
+  auto two_states =
+      store_->List(10, std::nullopt, {{JobState::kQueued, JobState::kCancelled}, "beta"});
+  ASSERT_EQ(two_states->jobs.size(), 2u);
+
+  // Paging with a filter: one per page, newest first, then no cursor.
+  auto p1 = store_->List(1, std::nullopt, {{}, "alpha"});
+  ASSERT_EQ(p1->jobs.size(), 1u);
+  EXPECT_EQ(p1->jobs[0].id, "alpha4");
+  auto p2 = store_->List(1, p1->next_cursor, {{}, "alpha"});
+  EXPECT_EQ(p2->jobs[0].id, "alpha2");
+  auto p3 = store_->List(1, p2->next_cursor, {{}, "alpha"});
+  EXPECT_EQ(p3->jobs[0].id, "alpha0");
+  EXPECT_FALSE(p3->next_cursor.has_value());
+
+  // A pattern character is matched literally.
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{}, "%"})->jobs.empty());
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{JobState::kRunning}, ""})->jobs.empty());
+}
+
+TEST_F(JobStoreTest, MigratesAVersion1Database) {
+  store_.reset();
+  std::filesystem::remove_all(dir_);
+  std::filesystem::create_directories(dir_);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+  // The version-1 schema as released, with one finished job in it.
+  const char* v1 = R"sql(
+CREATE TABLE jobs (
+  id TEXT PRIMARY KEY, request_id TEXT UNIQUE, name TEXT NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('QUEUED','RUNNING','SUCCEEDED','FAILED','CANCELLED')),
+  scene BLOB NOT NULL, build_id TEXT NOT NULL, created_at_ms INTEGER NOT NULL,
+  started_at_ms INTEGER, finished_at_ms INTEGER, step INTEGER NOT NULL DEFAULT 0,
+  time_s REAL NOT NULL DEFAULT 0, fraction_done REAL NOT NULL DEFAULT 0,
+  error_code TEXT NOT NULL DEFAULT '', error_message TEXT NOT NULL DEFAULT '',
+  wall_time_s REAL NOT NULL DEFAULT 0) STRICT;
+CREATE INDEX jobs_by_state ON jobs(state);
+CREATE TABLE results (job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name TEXT NOT NULL, value REAL NOT NULL, PRIMARY KEY (job_id, name)) STRICT;
+INSERT INTO jobs (id, name, state, scene, build_id, created_at_ms)
+  VALUES ('old', 'n', 'FAILED', x'00', 'b', 7);
+PRAGMA user_version=1;
+)sql";
+  ASSERT_EQ(sqlite3_exec(db, v1, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  sqlite3_close(db);
+
+  auto reopened = JobStore::Open(path_);
+  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+  auto old = (*reopened)->Get("old");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_EQ(old->attempt, 1u);
+  EXPECT_EQ(old->lease_epoch, 0);
+  EXPECT_FALSE(old->cancel_requested);
+  auto resumed = (*reopened)->Resume("old");
+  ASSERT_TRUE(resumed.ok());
+  EXPECT_EQ(resumed->attempt, 2u);
+  (*reopened).reset();
+
+  ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* stmt = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
+  EXPECT_EQ(JobStore::kSchemaVersion, 2);
+  sqlite3_finalize(stmt);
+  sqlite3_close(db);
 }
 
 }  // namespace

@@ -34,7 +34,12 @@ struct RunControl {
 };
 
 struct RunReport {
-  // Named measurements, sorted by name (e.g. "permeability_m2", "inflow_m2_per_s").
+  // Named measurements, sorted by name. Linear boundary: inflow/outflow_m2_per_s,
+  // permeability_m2 (k = mu Q L / (H dP) with sample_length_m and sample_width_m, see
+  // scene_network.h), and for lattices lattice_permeability_m2 and permeability_relative_error.
+  // Radial boundary: well_flow_rate_m2_per_s (out of the well into the sample, > 0 when
+  // p_w > p_e), outer_flow_rate_m2_per_s (into the outer reservoir), outer_reservoir_radius_m,
+  // well_area_m2. Always: counts, porosity_2d, min/max_pressure_pa, steps, simulated_time_s.
   std::vector<std::pair<std::string, double>> metrics;
   std::uint64_t steps = 0;
   double time_s = 0.0;

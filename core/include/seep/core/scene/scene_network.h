@@ -8,12 +8,28 @@
 // coordinate within one mean radius of the sample's end) becomes a pipe from the domain beside it
 // to that end's reservoir. The other hull contacts are no-flow.
 //
+// Radial boundary (BoundarySpec::radial): the packing is cut to an annulus about the well centre;
+// the void face enclosing the centre is the well domain (fixed at the well pressure; the smallest
+// face enclosing it if several do), every contact of the remaining outer hull is a pipe to one
+// outer reservoir node (id = domain count), whose effective radius is the conductance-weighted
+// mean distance from the well centre of the interior centroids reflected through the hull contact
+// points.
+//
 // Darcy geometry of the sample, for the permeability k = mu Q L / (H dP):
-//   length_m   extent of the particles along the axis (surface to surface): the reservoirs sit
-//              at the particles' outer surfaces, one pipe beyond the edge domains;
-//   width_m    area of the domains divided by the extent of their loop particles' centres along
-//              the axis: the mean transverse size of the region the fluid flows through.
-// On a square lattice these make k exactly a^3/(24R) (physics.md §1.3).
+//   length_m   distance along the axis between the two reservoirs' effective positions. A
+//              reservoir pipe stands for the bond to a missing neighbour domain beyond the hull;
+//              that neighbour's centroid is taken as the interior domain's centroid reflected
+//              through the contact point, and the reservoir sits at the conductance-weighted mean
+//              of these images over its pipes. The pressure field is then linear in the axis
+//              coordinate through the reservoirs as well as the domains;
+//   width_m    area of the domains divided by the distance between the mean contact points of
+//              the outlet and inlet hull pipes (the two faces of the flow region).
+// On lattices these make k exact (physics.md §1.3): square a^3/(24R) along x and y (reservoirs at
+// the particles' outer surfaces, faces through the edge centres); hex a^3/(24 sqrt3 R) along x,
+// where the zig-zag ends put the reservoirs half a radius inside the faces' mean line and a band
+// of triangles spans 2(columns-1)R. Along y a hex lattice has zig-zag no-flow sides, which a
+// linear field does not satisfy, so k there carries a side-wall error of order R/H. On random
+// packings both are the natural averages over the irregular ends.
 #pragma once
 
 #include <cstdint>
@@ -40,6 +56,13 @@ struct SceneNetwork {
   double length_m = 0.0;
   double width_m = 0.0;
   double mean_radius_m = 0.0;
+  // Radial boundary only (inlet_node, outlet_node and the Darcy geometry stay unset).
+  std::int32_t well_domain = -1;  // the hole's domain, held at the well pressure
+  std::int32_t outer_node = -1;   // the outer reservoir
+  std::int64_t outer_pipes = 0;
+  double well_x_m = 0.0;  // the well centre (centre of the full packing's bounding box)
+  double well_y_m = 0.0;
+  double outer_reservoir_radius_m = 0.0;  // effective radius of the outer reservoir
 };
 
 // Builds the packing a scene describes (lattice, random or an explicit list).

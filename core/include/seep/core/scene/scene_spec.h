@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -63,11 +64,27 @@ struct ApertureLawSpec {
 
 enum class FlowAxis { kX, kY };
 
+// Radial flow around a borehole (physics.md §2.4 "injection", §3.3). The sample is cut to an
+// annulus about the centre of the particles' bounding box: particles whose centre lies closer
+// than well_radius_m or farther than outer_radius_m are removed. The void face left in the middle
+// is the well domain, held at well_pressure_pa; the contacts on the remaining outer hull are pipes
+// to an outer reservoir at outer_pressure_pa.
+struct RadialBoundarySpec {
+  double well_radius_m = 0.0;
+  double outer_radius_m = 0.0;
+  double well_pressure_pa = 0.0;
+  double outer_pressure_pa = 0.0;
+};
+
+// Linear (permeameter) by default: inlet and outlet reservoirs at the two ends along `axis`, the
+// other sides no-flow. With `radial` set the boundary is radial and axis, inlet_pressure_pa and
+// outlet_pressure_pa are unused.
 struct BoundarySpec {
   FlowAxis axis = FlowAxis::kX;
   double inlet_pressure_pa = 0.0;
   double outlet_pressure_pa = 0.0;
   double initial_pressure_pa = 0.0;
+  std::optional<RadialBoundarySpec> radial;
 };
 
 enum class SolverKind { kSteady, kExplicit, kImplicit };

@@ -1,0 +1,55 @@
+// Pressure remap across a re-detection of the domains (physics.md §2.6): when contacts are lost or
+// formed, the faces of the contact graph merge or split, and the pressures of the old domains are
+// carried onto the new ones conserving the stored fluid.
+//
+// Matching. Both networks must come from the same particles (particle ids unchanged). A domain is
+// identified by the directed contacts of its loop: half-edge i -> j of a loop has the domain on its
+// left (domain loops are CCW; an island's outer loop is clockwise with its host domain on the
+// left). A half-edge present in both networks has overlapping faces on its left, an old domain D
+// and a new domain E, so D and E are joined. The connected groups of old and new domains so
+// joined are clusters: each cluster covers the same region before and after (e.g. two old domains
+// and their merged successor; one old domain and its two children).
+//
+// Rule. Every new domain of a cluster gets the storage-weighted mean pressure of the cluster's
+// old domains, P = sum V_s P / sum V_s over the old domains. So a merge gives
+// (V1 P1 + V2 P2)/(V1 + V2), a split gives both children the parent's P, an unchanged domain keeps
+// its P, and sum V_s P over a cluster is conserved whenever the cluster's total volume is (a pure
+// topology change). A new domain in no cluster with an old domain (a region that was part of the
+// outside, closed by a new hull contact) gets options.unmatched_pressure; an old domain in no
+// cluster with a new domain (opened to the outside) loses its fluid. Both are counted.
+//
+// Deterministic: ordered containers only, sums in domain order.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "seep/core/flow/fluid.h"
+#include "seep/core/geometry/domain_detection.h"
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+struct PressureRemapOptions {
+  StorageModel storage;             // which volume weighs the mean (V_p or V_d, times factor)
+  double unmatched_pressure = 0.0;  // for new domains with no old counterpart, Pa
+};
+
+struct PressureRemapReport {
+  std::int32_t clusters = 0;       // clusters with at least one old and one new domain
+  std::int32_t unmatched_new = 0;  // new domains given unmatched_pressure
+  std::int32_t unmatched_old = 0;  // old domains whose fluid left the network
+  double old_stored = 0.0;         // sum V_s P over the old domains, m^2 Pa
+  double new_stored = 0.0;         // sum V_s P over the new domains, m^2 Pa
+};
+
+// Writes one pressure per new domain into *new_pressure (resized). old_pressure holds one value
+// per old domain (extra entries, e.g. reservoir nodes after the domains, are ignored).
+Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
+                                           std::span<const double> old_pressure,
+                                           const DomainNetwork& new_network,
+                                           const PressureRemapOptions& options,
+                                           std::vector<double>* new_pressure);
+
+}  // namespace seep::core

@@ -1,0 +1,132 @@
+#include "seep/core/scene/pressure_remap.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <utility>
+
+namespace seep::core {
+namespace {
+
+using HalfEdge = std::pair<std::int32_t, std::int32_t>;
+
+// Half-edge -> the domain on its left: every domain loop (CCW), and the outer loops of islands
+// (clockwise, host domain on the left). Top-level outer loops border the outside: left out.
+std::map<HalfEdge, std::int32_t> LeftFaces(const DomainNetwork& d) {
+  std::map<HalfEdge, std::int32_t> left;
+  auto add_loop = [&left](const std::vector<std::int32_t>& particles, std::size_t begin,
+                          std::size_t end, std::int32_t face) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
+      left.emplace(HalfEdge{particles[k], next}, face);
+    }
+  };
+  for (std::size_t dom = 0; dom < d.num_domains(); ++dom) {
+    add_loop(d.loop_particles, static_cast<std::size_t>(d.loop_offsets[dom]),
+             static_cast<std::size_t>(d.loop_offsets[dom + 1]), static_cast<std::int32_t>(dom));
+  }
+  for (std::size_t o = 0; o < d.num_outer_faces(); ++o) {
+    if (d.outer_host_domain[o] < 0) continue;
+    add_loop(d.outer_particles, static_cast<std::size_t>(d.outer_offsets[o]),
+             static_cast<std::size_t>(d.outer_offsets[o + 1]), d.outer_host_domain[o]);
+  }
+  return left;
+}
+
+std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
+  while (parent[static_cast<std::size_t>(x)] != x) {
+    auto& p = parent[static_cast<std::size_t>(x)];
+    p = parent[static_cast<std::size_t>(p)];
+    x = p;
+  }
+  return x;
+}
+
+double StorageOf(const DomainNetwork& d, std::size_t dom, const StorageModel& storage) {
+  const double v =
+      storage.volume == StorageVolume::kPore ? d.pore_volume[dom] : d.apparent_volume[dom];
+  return storage.factor * v;
+}
+
+}  // namespace
+
+Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
+                                           std::span<const double> old_pressure,
+                                           const DomainNetwork& new_network,
+                                           const PressureRemapOptions& options,
+                                           std::vector<double>* new_pressure) {
+  SEEP_RETURN_IF_ERROR(ValidateStorageModel(options.storage));
+  const std::size_t n_old = old_network.num_domains();
+  const std::size_t n_new = new_network.num_domains();
+  if (old_pressure.size() < n_old) {
+    return InvalidArgument(fmt::format("remap.old_pressure: {} values for {} old domains",
+                                       old_pressure.size(), n_old));
+  }
+  if (!std::isfinite(options.unmatched_pressure)) {
+    return InvalidArgument(fmt::format("remap.unmatched_pressure: must be finite (got {})",
+                                       options.unmatched_pressure));
+  }
+  // Union-find over old domains [0, n_old) and new domains [n_old, n_old + n_new).
+  std::vector<std::int32_t> parent(n_old + n_new);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto old_left = LeftFaces(old_network);
+  const auto new_left = LeftFaces(new_network);
+  // Both maps are sorted by half-edge: walk them together.
+  auto o = old_left.begin();
+  auto n = new_left.begin();
+  while (o != old_left.end() && n != new_left.end()) {
+    if (o->first < n->first) {
+      ++o;
+    } else if (n->first < o->first) {
+      ++n;
+    } else {
+      const std::int32_t a = Find(parent, o->second);
+      const std::int32_t b = Find(parent, static_cast<std::int32_t>(n_old) + n->second);
+      // The smaller root wins: the result does not depend on the order of the unions.
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+      ++o;
+      ++n;
+    }
+  }
+
+  PressureRemapReport report;
+  std::vector<double> stored(n_old + n_new, 0.0);  // per root: sum V_s P of old members
+  std::vector<double> volume(n_old + n_new, 0.0);  // per root: sum V_s of old members
+  std::vector<std::uint8_t> has_new(n_old + n_new, 0);
+  std::vector<std::int32_t> old_members(n_old + n_new, 0);
+  std::vector<double> plain_sum(n_old + n_new, 0.0);  // per root: sum P of old members
+  for (std::size_t k = 0; k < n_new; ++k) {
+    has_new[static_cast<std::size_t>(Find(parent, static_cast<std::int32_t>(n_old + k)))] = 1;
+  }
+  for (std::size_t k = 0; k < n_old; ++k) {
+    const auto root = static_cast<std::size_t>(Find(parent, static_cast<std::int32_t>(k)));
+    const double v = StorageOf(old_network, k, options.storage);
+    report.old_stored += v * old_pressure[k];
+    stored[root] += v * old_pressure[k];
+    volume[root] += v;
+    ++old_members[root];
+    plain_sum[root] += old_pressure[k];
+    if (has_new[root] == 0) ++report.unmatched_old;
+    if (root == k && has_new[root] != 0) ++report.clusters;
+  }
+  new_pressure->assign(n_new, options.unmatched_pressure);
+  for (std::size_t k = 0; k < n_new; ++k) {
+    const auto root = static_cast<std::size_t>(Find(parent, static_cast<std::int32_t>(n_old + k)));
+    if (root < n_old && old_members[root] == 1) {
+      (*new_pressure)[k] = old_pressure[root];  // unchanged or split: copied exactly
+    } else if (root < n_old && volume[root] > 0.0) {
+      (*new_pressure)[k] = stored[root] / volume[root];
+    } else if (root < n_old) {
+      // Old domains of zero storage: their plain mean.
+      (*new_pressure)[k] = plain_sum[root] / old_members[root];
+    } else {
+      ++report.unmatched_new;
+    }
+    report.new_stored += StorageOf(new_network, k, options.storage) * (*new_pressure)[k];
+  }
+  return report;
+}
+
+}  // namespace seep::core

@@ -1,0 +1,161 @@
+// V16 (physics.md §2.6, §5): a contact between two domains is removed (the two domains merge) and
+// re-formed (the merged domain splits); RemapPressures carries the pressures across conserving
+// the stored fluid sum V_s P.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "scene_test_util.h"
+#include "seep/core/geometry/contact_detection.h"
+#include "seep/core/geometry/domain_detection.h"
+#include "seep/core/geometry/packing.h"
+#include "seep/core/scene/pressure_remap.h"
+#include "seep/core/scene/scene_network.h"
+
+namespace seep::core {
+namespace {
+
+ContactList Without(const ContactList& contacts, std::size_t removed) {
+  ContactList out;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    if (c == removed) continue;
+    out.i.push_back(contacts.i[c]);
+    out.j.push_back(contacts.j[c]);
+    out.gap.push_back(contacts.gap[c]);
+  }
+  return out;
+}
+
+DomainNetwork Detect(const Packing& packing, const ContactList& contacts) {
+  auto d = DetectDomains(packing, contacts);
+  EXPECT_TRUE(d.ok()) << d.status().ToString();
+  return d.ok() ? std::move(*d) : DomainNetwork{};
+}
+
+// Deterministic, uneven pressures: 1e5 Pa times a fixed pseudo-random pattern in [0.5, 1.5).
+std::vector<double> Pressures(std::size_t n) {
+  std::vector<double> p(n);
+  std::uint64_t state = 12345;
+  for (double& v : p) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    v = 1e5 * (0.5 + static_cast<double>(state >> 11) / 9007199254740992.0);
+  }
+  return p;
+}
+
+double Stored(const DomainNetwork& d, const std::vector<double>& p) {
+  double s = 0.0;
+  for (std::size_t k = 0; k < d.num_domains(); ++k) s += d.pore_volume[k] * p[k];
+  return s;
+}
+
+std::vector<double> Remap(const DomainNetwork& from, const std::vector<double>& p,
+                          const DomainNetwork& to, PressureRemapReport* report) {
+  std::vector<double> out;
+  auto r = RemapPressures(from, p, to, {}, &out);
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  if (r.ok()) *report = *r;
+  return out;
+}
+
+void CheckMergeAndSplit(const Packing& packing, const ContactList& contacts, std::size_t pipe) {
+  const DomainNetwork before = Detect(packing, contacts);
+  const std::vector<double> p = Pressures(before.num_domains());
+  const auto c = static_cast<std::size_t>(before.pipe_contact[pipe]);
+  const auto d1 = static_cast<std::size_t>(before.pipe_domain_a[pipe]);
+  const auto d2 = static_cast<std::size_t>(before.pipe_domain_b[pipe]);
+  const double v1 = before.pore_volume[d1];
+  const double v2 = before.pore_volume[d2];
+  const double merged_expected = (v1 * p[d1] + v2 * p[d2]) / (v1 + v2);
+
+  // Merge.
+  const DomainNetwork merged = Detect(packing, Without(contacts, c));
+  ASSERT_EQ(merged.num_domains(), before.num_domains() - 1);
+  PressureRemapReport report;
+  const std::vector<double> pm = Remap(before, p, merged, &report);
+  EXPECT_EQ(report.unmatched_new, 0);
+  EXPECT_EQ(report.unmatched_old, 0);
+  EXPECT_EQ(report.clusters, static_cast<std::int32_t>(merged.num_domains()));
+  EXPECT_NEAR(Stored(merged, pm) / Stored(before, p), 1.0, 1e-12);
+  EXPECT_NEAR(report.new_stored / report.old_stored, 1.0, 1e-12);
+  // The merged domain is the one whose pressure is neither old value; every other domain keeps
+  // its own pressure exactly (checked as a multiset via the sum of the others).
+  std::size_t merged_id = merged.num_domains();
+  for (std::size_t k = 0; k < merged.num_domains(); ++k) {
+    if (std::abs(merged.pore_volume[k] - (v1 + v2)) <= 1e-12 * (v1 + v2) &&
+        std::abs(pm[k] - merged_expected) <= 1e-12 * merged_expected) {
+      merged_id = k;
+    }
+  }
+  ASSERT_LT(merged_id, merged.num_domains()) << "no domain of volume V1 + V2 at the mean P";
+  double others_before = 0.0;
+  for (std::size_t k = 0; k < before.num_domains(); ++k) {
+    if (k != d1 && k != d2) others_before += p[k];
+  }
+  double others_after = 0.0;
+  for (std::size_t k = 0; k < merged.num_domains(); ++k) {
+    if (k != merged_id) others_after += pm[k];
+  }
+  EXPECT_NEAR(others_after / others_before, 1.0, 1e-14);
+
+  // Split: the contact forms again; both children start at the merged pressure.
+  const DomainNetwork split = Detect(packing, contacts);
+  const std::vector<double> ps = Remap(merged, pm, split, &report);
+  ASSERT_EQ(split.num_domains(), before.num_domains());
+  EXPECT_EQ(ps[d1], pm[merged_id]);
+  EXPECT_EQ(ps[d2], pm[merged_id]);
+  EXPECT_NEAR(Stored(split, ps) / Stored(merged, pm), 1.0, 1e-12);
+  for (std::size_t k = 0; k < split.num_domains(); ++k) {
+    if (k != d1 && k != d2) {
+      EXPECT_EQ(ps[k], p[k]) << "domain " << k;
+    }
+  }
+}
+
+TEST(Verification, V16_MergeSplitConservation) {
+  {
+    SCOPED_TRACE("hex lattice");
+    auto packing = HexLattice(12, 10, 1e-3);
+    ASSERT_TRUE(packing.ok());
+    ContactDetector detector;
+    ContactList contacts;
+    ASSERT_TRUE(detector.Detect(*packing, 1e-12, &contacts).ok());
+    const DomainNetwork d = Detect(*packing, contacts);
+    CheckMergeAndSplit(*packing, contacts, d.num_pipes() / 2);
+  }
+  {
+    SCOPED_TRACE("random packing");
+    auto net = BuildSceneNetwork(scene_test::RandomScene(7));
+    ASSERT_TRUE(net.ok()) << net.status().ToString();
+    for (std::size_t pipe :
+         {std::size_t{0}, net->domains.num_pipes() / 3, net->domains.num_pipes() - 1}) {
+      SCOPED_TRACE(testing::Message() << "pipe " << pipe);
+      CheckMergeAndSplit(net->packing, net->contacts, pipe);
+    }
+  }
+}
+
+TEST(PressureRemap, UnchangedNetworkKeepsEveryPressure) {
+  auto net = BuildSceneNetwork(scene_test::RandomScene(3));
+  ASSERT_TRUE(net.ok()) << net.status().ToString();
+  const std::vector<double> p = Pressures(net->domains.num_domains());
+  PressureRemapReport report;
+  EXPECT_EQ(Remap(net->domains, p, net->domains, &report), p);
+  EXPECT_EQ(report.clusters, static_cast<std::int32_t>(net->domains.num_domains()));
+}
+
+TEST(PressureRemap, RejectsTooFewPressures) {
+  auto net = BuildSceneNetwork(scene_test::RandomScene(3));
+  ASSERT_TRUE(net.ok()) << net.status().ToString();
+  std::vector<double> out;
+  const std::vector<double> p(net->domains.num_domains() - 1, 0.0);
+  auto r = RemapPressures(net->domains, p, net->domains, {}, &out);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.status().message().rfind("remap.old_pressure:", 0), 0u) << r.status().message();
+}
+
+}  // namespace
+}  // namespace seep::core

@@ -1,0 +1,135 @@
+#include "bad_scenes.h"
+
+#include <limits>
+
+namespace seep::testing {
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+const std::vector<BadScene>& CommonBadScenes() {
+  static const std::vector<BadScene> scenes = {
+      {"NoPacking", [](v1::Scene& s) { s.clear_packing(); }, "scene.packing:"},
+      {"LatticeKindUnset",
+       [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->clear_kind(); },
+       "scene.packing.lattice.kind:"},
+      {"OneColumn", [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_columns(1); },
+       "scene.packing.lattice.columns:"},
+      {"NoRows", [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_rows(0); },
+       "scene.packing.lattice.rows:"},
+      {"NegativeRadius",
+       [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_radius_m(-1); },
+       "scene.packing.lattice.radius_m:"},
+      {"NaNRadius",
+       [](v1::Scene& s) { s.mutable_packing()->mutable_lattice()->set_radius_m(kNaN); },
+       "scene.packing.lattice.radius_m:"},
+      {"HugeLattice",
+       [](v1::Scene& s) {
+         s.mutable_packing()->mutable_lattice()->set_columns(100000);
+         s.mutable_packing()->mutable_lattice()->set_rows(100000);
+       },
+       "scene.packing.lattice:"},
+      {"ParticleArraysOfUnequalLength",
+       [](v1::Scene& s) {
+         auto* p = s.mutable_packing()->mutable_particles();
+         for (int i = 0; i < 3; ++i) {
+           p->add_x_m(i);
+           p->add_y_m(0);
+           p->add_radius_m(0.5);
+         }
+         p->add_x_m(4);
+       },
+       "scene.packing.particles:"},
+      {"ParticleWithZeroRadius",
+       [](v1::Scene& s) {
+         auto* p = s.mutable_packing()->mutable_particles();
+         for (int i = 0; i < 3; ++i) {
+           p->add_x_m(i);
+           p->add_y_m(0);
+           p->add_radius_m(i == 2 ? 0.0 : 0.5);
+         }
+       },
+       "scene.packing.particles[2].radius_m:"},
+      {"RandomPorosityAboveOne",
+       [](v1::Scene& s) {
+         auto* r = s.mutable_packing()->mutable_random();
+         r->set_width_m(1);
+         r->set_height_m(1);
+         r->set_min_radius_m(0.01);
+         r->set_max_radius_m(0.02);
+         r->set_particle_count(100);
+         r->set_target_porosity(1.5);
+       },
+       "scene.packing.random.target_porosity:"},
+      {"RandomRadiiSwapped",
+       [](v1::Scene& s) {
+         auto* r = s.mutable_packing()->mutable_random();
+         r->set_width_m(1);
+         r->set_height_m(1);
+         r->set_min_radius_m(0.02);
+         r->set_max_radius_m(0.01);
+         r->set_particle_count(100);
+         r->set_target_porosity(0.2);
+       },
+       "scene.packing.random.max_radius_m:"},
+      {"RandomWithoutTarget",
+       [](v1::Scene& s) {
+         auto* r = s.mutable_packing()->mutable_random();
+         r->set_width_m(1);
+         r->set_height_m(1);
+         r->set_min_radius_m(0.01);
+         r->set_max_radius_m(0.02);
+         r->set_particle_count(100);
+       },
+       "scene.packing.random.target:"},
+      {"NegativeContactGap", [](v1::Scene& s) { s.mutable_packing()->set_contact_gap_m(-1); },
+       "scene.packing.contact_gap_m:"},
+      {"ZeroViscosity", [](v1::Scene& s) { s.mutable_fluid()->set_viscosity_pa_s(0); },
+       "scene.fluid.viscosity_pa_s:"},
+      {"NegativeViscosity", [](v1::Scene& s) { s.mutable_fluid()->set_viscosity_pa_s(-1); },
+       "scene.fluid.viscosity_pa_s:"},
+      {"InfiniteBulkModulus", [](v1::Scene& s) { s.mutable_fluid()->set_bulk_modulus_pa(kInf); },
+       "scene.fluid.bulk_modulus_pa:"},
+      {"NoResidualAperture", [](v1::Scene& s) { s.mutable_aperture()->set_residual_aperture_m(0); },
+       "scene.aperture.residual_aperture_m:"},
+      {"NegativeGapMultiplier",
+       [](v1::Scene& s) { s.mutable_aperture()->set_gap_multiplier(-0.1); },
+       "scene.aperture.gap_multiplier:"},
+      {"CapBelowA0", [](v1::Scene& s) { s.mutable_aperture()->set_max_aperture_m(1e-6); },
+       "scene.aperture.max_aperture_m:"},
+      {"AxisUnset", [](v1::Scene& s) { s.mutable_boundary()->clear_axis(); },
+       "scene.boundary.axis:"},
+      {"NaNInletPressure", [](v1::Scene& s) { s.mutable_boundary()->set_inlet_pressure_pa(kNaN); },
+       "scene.boundary.inlet_pressure_pa:"},
+      {"SolverKindUnset", [](v1::Scene& s) { s.mutable_solver()->clear_kind(); },
+       "scene.solver.kind:"},
+      {"TransientWithoutStorage",
+       [](v1::Scene& s) {
+         s.mutable_solver()->set_kind(v1::SOLVER_KIND_IMPLICIT);
+         s.mutable_solver()->set_dt_factor(10);
+         s.mutable_solver()->set_end_time_s(1);
+         s.mutable_solver()->clear_storage();
+       },
+       "scene.solver.storage:"},
+      {"NoEndTime",
+       [](v1::Scene& s) {
+         s.mutable_solver()->set_kind(v1::SOLVER_KIND_IMPLICIT);
+         s.mutable_solver()->set_storage(v1::STORAGE_VOLUME_PORE);
+         s.mutable_solver()->set_dt_factor(10);
+         s.mutable_solver()->clear_end_time_s();
+       },
+       "scene.solver.end_time_s:"},
+      {"ExplicitAboveTheCriticalStep",
+       [](v1::Scene& s) {
+         s.mutable_solver()->set_kind(v1::SOLVER_KIND_EXPLICIT);
+         s.mutable_solver()->set_storage(v1::STORAGE_VOLUME_PORE);
+         s.mutable_solver()->set_dt_factor(1.5);
+         s.mutable_solver()->set_end_time_s(1);
+       },
+       "scene.solver.dt_factor:"},
+  };
+  return scenes;
+}
+
+}  // namespace seep::testing
