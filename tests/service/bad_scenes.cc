@@ -6,6 +6,18 @@ namespace seep::testing {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A valid random packing spec without a target: the cases below break one field of it.
+v1::RandomPacking* RandomBox(v1::Scene& scene) {
+  auto* r = scene.mutable_packing()->mutable_random();
+  r->set_width_m(1);
+  r->set_height_m(1);
+  r->set_min_radius_m(0.01);
+  r->set_max_radius_m(0.02);
+  r->set_particle_count(100);
+  return r;
+}
+
 }  // namespace
 
 const std::vector<BadScene>& CommonBadScenes() {
@@ -53,36 +65,19 @@ const std::vector<BadScene>& CommonBadScenes() {
        "scene.packing.particles[2].radius_m:"},
       {"RandomPorosityAboveOne",
        [](v1::Scene& s) {
-         auto* r = s.mutable_packing()->mutable_random();
-         r->set_width_m(1);
-         r->set_height_m(1);
-         r->set_min_radius_m(0.01);
-         r->set_max_radius_m(0.02);
-         r->set_particle_count(100);
+         auto* r = RandomBox(s);
          r->set_target_porosity(1.5);
        },
        "scene.packing.random.target_porosity:"},
       {"RandomRadiiSwapped",
        [](v1::Scene& s) {
-         auto* r = s.mutable_packing()->mutable_random();
-         r->set_width_m(1);
-         r->set_height_m(1);
+         auto* r = RandomBox(s);
          r->set_min_radius_m(0.02);
          r->set_max_radius_m(0.01);
-         r->set_particle_count(100);
          r->set_target_porosity(0.2);
        },
        "scene.packing.random.max_radius_m:"},
-      {"RandomWithoutTarget",
-       [](v1::Scene& s) {
-         auto* r = s.mutable_packing()->mutable_random();
-         r->set_width_m(1);
-         r->set_height_m(1);
-         r->set_min_radius_m(0.01);
-         r->set_max_radius_m(0.02);
-         r->set_particle_count(100);
-       },
-       "scene.packing.random.target:"},
+      {"RandomWithoutTarget", [](v1::Scene& s) { RandomBox(s); }, "scene.packing.random.target:"},
       {"NegativeContactGap", [](v1::Scene& s) { s.mutable_packing()->set_contact_gap_m(-1); },
        "scene.packing.contact_gap_m:"},
       {"ZeroViscosity", [](v1::Scene& s) { s.mutable_fluid()->set_viscosity_pa_s(0); },
