@@ -1,0 +1,58 @@
+// Checkpoint files: crash-safe writing and verified reading (proto/seep/v1/checkpoint.proto has
+// the layout). The solver state is opaque bytes here; what goes into it is the solver's business.
+//
+// Writing is atomic: the file is written as <path>.tmp in the same directory, fsync'ed, renamed
+// over <path>, and the directory is fsync'ed, so after a crash <path> is either the old file or
+// the complete new one. Reading verifies the magic, the format version, every chunk's SHA-256,
+// the chunk count and size, and the whole-file SHA-256: a truncated or corrupted file is
+// DATA_LOSS with the reason, a file from a newer format is FAILED_PRECONDITION.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "seep/core/status.h"
+
+namespace seep::service {
+
+inline constexpr std::uint32_t kCheckpointFormatVersion = 1;
+inline constexpr std::size_t kCheckpointChunkBytes = 1u << 20;
+
+struct CheckpointMeta {
+  std::uint32_t format_version = kCheckpointFormatVersion;
+  std::string build_id;
+  std::string job_id;
+  std::string scene_sha256;  // 32 raw bytes
+  std::uint64_t step = 0;
+  double time_s = 0.0;
+};
+
+struct CheckpointFile {
+  CheckpointMeta meta;
+  std::string state;
+};
+
+// 32 raw bytes.
+std::string Sha256(std::string_view bytes);
+
+core::Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
+                                 std::string_view state);
+
+core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path);
+
+struct NewestValidCheckpoint {
+  CheckpointFile file;
+  std::filesystem::path path;
+  // Why each newer candidate was skipped, e.g. "ckpt-200.bin: DATA_LOSS: ... truncated".
+  std::vector<std::string> skipped;
+};
+
+// Tries the candidates in the given order (newest first) and returns the first that reads and
+// verifies; NOT_FOUND (listing every reason) when none does.
+core::Result<NewestValidCheckpoint> ReadNewestValidCheckpoint(
+    const std::vector<std::filesystem::path>& newest_first);
+
+}  // namespace seep::service

@@ -1,0 +1,151 @@
+#include "codec/checkpoint_io.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace seep::service {
+namespace {
+
+class CheckpointIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("seep-ckpt-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  static CheckpointMeta Meta(std::uint64_t step) {
+    CheckpointMeta meta;
+    meta.build_id = "0.1.0+test";
+    meta.job_id = "j-1";
+    meta.scene_sha256 = Sha256("scene");
+    meta.step = step;
+    meta.time_s = 0.25 * static_cast<double>(step);
+    return meta;
+  }
+  // A state that spans several chunks, with every byte value.
+  static std::string State(std::size_t size) {
+    std::string state(size, '\0');
+    for (std::size_t i = 0; i < size; ++i) state[i] = static_cast<char>((i * 131u + 7u) % 256u);
+    return state;
+  }
+  static std::string ReadAll(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  static void WriteAll(const std::filesystem::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << bytes;
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(CheckpointIoTest, RoundTripsStateAndMetaAcrossChunks) {
+  const auto path = dir_ / "ckpt-100.bin";
+  const std::string state = State(2 * kCheckpointChunkBytes + 12345);  // three chunks
+  ASSERT_TRUE(WriteCheckpointFile(path, Meta(100), state).ok());
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "ckpt-100.bin.tmp"));
+  auto read = ReadCheckpointFile(path);
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  EXPECT_EQ(read->state, state);
+  EXPECT_EQ(read->meta.step, 100u);
+  EXPECT_EQ(read->meta.time_s, 25.0);
+  EXPECT_EQ(read->meta.job_id, "j-1");
+  EXPECT_EQ(read->meta.build_id, "0.1.0+test");
+  EXPECT_EQ(read->meta.scene_sha256, Sha256("scene"));
+  EXPECT_EQ(read->meta.format_version, kCheckpointFormatVersion);
+}
+
+TEST_F(CheckpointIoTest, EmptyStateAndOverwriteReplaceTheFile) {
+  const auto path = dir_ / "ckpt.bin";
+  ASSERT_TRUE(WriteCheckpointFile(path, Meta(1), "first").ok());
+  ASSERT_TRUE(WriteCheckpointFile(path, Meta(2), "").ok());
+  auto read = ReadCheckpointFile(path);
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  EXPECT_EQ(read->meta.step, 2u);
+  EXPECT_TRUE(read->state.empty());
+}
+
+TEST_F(CheckpointIoTest, Sha256MatchesTheStandardTestVector) {
+  // FIPS 180-2 example: SHA-256("abc").
+  const std::string digest = Sha256("abc");
+  ASSERT_EQ(digest.size(), 32u);
+  EXPECT_EQ(static_cast<unsigned char>(digest[0]), 0xbau);
+  EXPECT_EQ(static_cast<unsigned char>(digest[1]), 0x78u);
+  EXPECT_EQ(static_cast<unsigned char>(digest[31]), 0xadu);
+}
+
+TEST_F(CheckpointIoTest, TruncationAtAnyPointIsDataLoss) {
+  const auto path = dir_ / "ckpt.bin";
+  ASSERT_TRUE(WriteCheckpointFile(path, Meta(5), State(kCheckpointChunkBytes + 100)).ok());
+  const std::string full = ReadAll(path);
+  for (const std::size_t keep : {std::size_t{0}, std::size_t{4}, std::size_t{20}, full.size() / 2,
+                                 full.size() - 40, full.size() - 1}) {
+    WriteAll(path, full.substr(0, keep));
+    auto read = ReadCheckpointFile(path);
+    ASSERT_FALSE(read.ok()) << "kept " << keep << " bytes";
+    EXPECT_EQ(read.status().code(), core::StatusCode::kDataLoss) << read.status().ToString();
+  }
+}
+
+TEST_F(CheckpointIoTest, AFlippedByteIsDataLoss) {
+  const auto path = dir_ / "ckpt.bin";
+  ASSERT_TRUE(WriteCheckpointFile(path, Meta(5), State(3000)).ok());
+  std::string bytes = ReadAll(path);
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x01);
+  WriteAll(path, bytes);
+  auto read = ReadCheckpointFile(path);
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.status().code(), core::StatusCode::kDataLoss);
+  EXPECT_NE(read.status().message().find("checksum"), std::string::npos) << read.status().message();
+}
+
+TEST_F(CheckpointIoTest, ForeignFilesAndNewerFormatsAreRefused) {
+  const auto foreign = dir_ / "notes.txt";
+  WriteAll(foreign, "hello, not a checkpoint");
+  EXPECT_EQ(ReadCheckpointFile(foreign).status().code(), core::StatusCode::kDataLoss);
+  EXPECT_EQ(ReadCheckpointFile(dir_ / "missing.bin").status().code(), core::StatusCode::kNotFound);
+
+  const auto future = dir_ / "future.bin";
+  CheckpointMeta meta = Meta(1);
+  meta.format_version = kCheckpointFormatVersion + 1;
+  ASSERT_TRUE(WriteCheckpointFile(future, meta, "x").ok());
+  auto read = ReadCheckpointFile(future);
+  EXPECT_EQ(read.status().code(), core::StatusCode::kFailedPrecondition);
+  EXPECT_NE(read.status().message().find("format version 2"), std::string::npos);
+}
+
+TEST_F(CheckpointIoTest, FallsBackToThePreviousCheckpointWhenTheNewestIsBroken) {
+  const auto older = dir_ / "ckpt-100.bin";
+  const auto newest = dir_ / "ckpt-200.bin";
+  ASSERT_TRUE(WriteCheckpointFile(older, Meta(100), State(5000)).ok());
+  ASSERT_TRUE(WriteCheckpointFile(newest, Meta(200), State(7000)).ok());
+  const std::string full = ReadAll(newest);
+  WriteAll(newest, full.substr(0, full.size() - 10));  // truncated by a crash
+
+  auto found = ReadNewestValidCheckpoint({newest, older});
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_EQ(found->path, older);
+  EXPECT_EQ(found->file.meta.step, 100u);
+  EXPECT_EQ(found->file.state, State(5000));
+  ASSERT_EQ(found->skipped.size(), 1u);
+  EXPECT_NE(found->skipped[0].find("ckpt-200.bin: DATA_LOSS"), std::string::npos)
+      << found->skipped[0];
+
+  WriteAll(older, "garbage");
+  auto none = ReadNewestValidCheckpoint({newest, older});
+  ASSERT_FALSE(none.ok());
+  EXPECT_EQ(none.status().code(), core::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace seep::service
