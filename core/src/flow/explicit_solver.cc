@@ -105,20 +105,19 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
     return Status::Ok();
   }
   SEEP_RETURN_IF_ERROR(network.Validate());
-  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, options_.storage));
+  SEEP_ASSIGN_OR_RETURN(capacity_,
+                        ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus));
   SEEP_ASSIGN_OR_RETURN(limit_,
                         ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
   const std::size_t n = network.num_domains();
   const auto role = network.role();
   const auto q_src = network.source_rate();
   rate_.assign(n, 0.0);
-  capacity_.assign(n, 0.0);
   inflow_.assign(n, 0.0);
   sources_.clear();
   for (std::size_t d = 0; d < n; ++d) {
     if (role[d] == DomainRole::kFixedPressure) continue;
-    rate_[d] = options_.bulk_modulus / vs[d];
-    capacity_[d] = vs[d] / options_.bulk_modulus;
+    rate_[d] = 1.0 / capacity_[d];
     if (role[d] == DomainRole::kSource && q_src[d] != 0.0) {
       sources_.push_back(static_cast<std::int32_t>(d));
       inflow_[d] = q_src[d];

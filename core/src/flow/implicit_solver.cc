@@ -37,14 +37,10 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
     return Status::Ok();
   }
   SEEP_RETURN_IF_ERROR(network.Validate());
-  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, options_.storage));
+  SEEP_ASSIGN_OR_RETURN(capacity_,
+                        ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus));
   SEEP_ASSIGN_OR_RETURN(limit_,
                         ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
-  const auto role = network.role();
-  capacity_.assign(network.num_domains(), 0.0);
-  for (std::size_t d = 0; d < capacity_.size(); ++d) {
-    if (role[d] != DomainRole::kFixedPressure) capacity_[d] = vs[d] / options_.bulk_modulus;
-  }
   storage_diagonal_dt_ = -1.0;
   SEEP_RETURN_IF_ERROR(system_->SyncTopology(network, {}));
   topology_stamp_ = network.topology_version();

@@ -26,4 +26,15 @@ Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
   return vs;
 }
 
+Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
+                                                     const StorageModel& storage,
+                                                     double bulk_modulus) {
+  SEEP_ASSIGN_OR_RETURN(std::vector<double> capacity, ComputeStorageVolumes(network, storage));
+  const auto role = network.role();
+  for (std::size_t d = 0; d < capacity.size(); ++d) {
+    capacity[d] = role[d] == DomainRole::kFixedPressure ? 0.0 : capacity[d] / bulk_modulus;
+  }
+  return capacity;
+}
+
 }  // namespace seep::core

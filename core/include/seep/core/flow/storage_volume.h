@@ -25,4 +25,10 @@ inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& st
 Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
                                                   const StorageModel& storage);
 
+// Storage capacity V_s/K_f (m^2/Pa) of every domain, 0 for fixed-pressure domains: the
+// coefficient of dP/dt in every pressure update. Same checks as ComputeStorageVolumes.
+Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
+                                                     const StorageModel& storage,
+                                                     double bulk_modulus);
+
 }  // namespace seep::core
