@@ -39,6 +39,9 @@ struct Options {
   std::string log_level = "info";
   std::string port_file;
   int workers = 1;
+  std::uint64_t checkpoint_every_steps = 0;
+  double checkpoint_interval_s = 30.0;
+  std::uint32_t checkpoints_kept = 3;
 };
 
 std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
@@ -118,6 +121,11 @@ int Run(const Options& options) {
   runner_options.workers = options.workers;
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = lease_owner;
+  runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
+  runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
+  runner_options.checkpoints.interval =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.checkpoint_interval_s * 1000));
+  runner_options.checkpoints.keep = options.checkpoints_kept;
   seep::service::JobRunner runner(**store, hub, runner_options, logger);
   seep::service::SeepServiceImpl service(
       **store, hub, SEEP_BUILD_ID,
@@ -176,6 +184,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--port-file", options.port_file,
                  "write the bound port to this file once serving (for scripts and tests)");
+  app.add_option("--checkpoint-interval-s", options.checkpoint_interval_s,
+                 "wall seconds between two checkpoints of a running job (0 = no time trigger)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  app.add_option("--checkpoint-every-steps", options.checkpoint_every_steps,
+                 "steps between two checkpoints of a running job (0 = no step trigger)")
+      ->capture_default_str();
+  app.add_option("--checkpoints-kept", options.checkpoints_kept,
+                 "newest checkpoint files kept per job")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return Run(options);

@@ -66,6 +66,10 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
     auto* result = out->mutable_result();
     for (const auto& [name, value] : job.metrics) (*result->mutable_metrics())[name] = value;
     result->set_wall_time_s(job.wall_time_s);
+    result->set_state_sha256(job.state_sha256);
+    auto* series = result->mutable_series();
+    for (const auto& c : job.series_columns) series->add_columns(c);
+    series->mutable_values()->Assign(job.series_values.begin(), job.series_values.end());
   }
   out->set_build_id(job.build_id);
   out->set_attempt(job.attempt);

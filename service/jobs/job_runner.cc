@@ -5,8 +5,10 @@
 #include <chrono>
 #include <exception>
 
+#include "codec/checkpoint_io.h"
 #include "codec/scene_codec.h"
-#include "seep/core/scene/run_scene.h"
+#include "codec/simulation_state_codec.h"
+#include "seep/core/scene/simulation.h"
 #include "seep/v1/scene.pb.h"
 
 namespace seep::service {
@@ -16,6 +18,15 @@ std::int64_t NowMs() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+// Lower-case hex of the SHA-256 of `bytes`.
+std::string HexSha256(std::string_view bytes) {
+  const std::string raw = Sha256(bytes);
+  std::string hex;
+  hex.reserve(raw.size() * 2);
+  for (const unsigned char c : raw) hex += fmt::format("{:02x}", c);
+  return hex;
 }
 
 }  // namespace
@@ -133,15 +144,26 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   hub_.Publish(job.id, job.progress);
   const auto wall_start = std::chrono::steady_clock::now();
   log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt, job.lease_epoch);
+  AddEvent(job.id, "CLAIMED",
+           fmt::format("attempt {} by {} (lease epoch {})", job.attempt, options_.lease_owner,
+                       job.lease_epoch));
 
-  core::Result<core::RunReport> report = core::Internal("job did not run");
+  CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
+  std::optional<core::Simulation> sim;
+  core::Status outcome = core::Internal("job did not run");
+  std::uint64_t resumed_from = 0;
   try {
     v1::Scene scene_pb;
     if (!scene_pb.ParseFromString(job.scene)) {
-      report = core::DataLoss("stored scene bytes do not parse as seep.v1.Scene");
+      outcome = core::DataLoss("stored scene bytes do not parse as seep.v1.Scene");
     } else if (auto spec = SceneFromProto(scene_pb); !spec.ok()) {
-      report = spec.status();
+      outcome = spec.status();
+    } else if (auto created = core::Simulation::Create(*spec, log); !created.ok()) {
+      outcome = created.status();
     } else {
+      sim.emplace(std::move(*created));
+      if (keeper.enabled()) resumed_from = keeper.RestoreNewest(*sim).value_or(0);
+      keeper.StartClock();
       auto last_store_write = std::chrono::steady_clock::now();
       core::RunControl control;
       control.stop = running->stop.get_token();
@@ -149,8 +171,12 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
       control.on_progress = [&](const core::RunProgress& p) {
         const auto now = std::chrono::steady_clock::now();
         const double elapsed = std::chrono::duration<double>(now - wall_start).count();
+        // The ETA counts only the part run in this attempt.
+        const double start_fraction =
+            static_cast<double>(resumed_from) / static_cast<double>(sim->total_steps());
+        const double done_here = p.fraction_done - start_fraction;
         JobProgress progress{p.step, p.time_s, p.fraction_done,
-                             p.fraction_done > 0.0 ? elapsed * (1.0 / p.fraction_done - 1.0) : 0.0};
+                             done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0};
         hub_.Publish(job.id, progress);
         if (now - last_store_write >= options_.store_progress_interval) {
           last_store_write = now;
@@ -165,52 +191,97 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
           }
         }
       };
-      report = core::RunScene(*spec, control);
+      control.at_step_end = [&](const core::Simulation& at) {
+        if (auto s = keeper.MaybeWrite(at); s.code() == core::StatusCode::kAborted) {
+          log->warn("lease lost ({}); stopping", s.ToString());
+          running->lease_lost = true;
+          running->stop.request_stop();
+        }
+      };
+      outcome = sim->Run(control);
     }
   } catch (const std::exception& e) {
-    report = core::Internal(fmt::format("unexpected exception: {}", e.what()));
+    outcome = core::Internal(fmt::format("unexpected exception: {}", e.what()));
   }
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   {
     std::lock_guard lock(mutex_);
     running_.erase(job.id);
   }
+  Finish(job, *running, outcome, sim ? &*sim : nullptr, keeper, wall_start, log);
+  hub_.Finished(job.id);
+}
 
-  const bool stopped = !report.ok() && report.status().code() == core::StatusCode::kCancelled &&
-                       running->stop.stop_requested();
-  Status stored;
-  if (stopped && running->lease_lost) {
+void JobRunner::Finish(const JobRecord& job, Running& running, const core::Status& outcome,
+                       const core::Simulation* sim, CheckpointKeeper& keeper,
+                       std::chrono::steady_clock::time_point wall_start,
+                       const std::shared_ptr<spdlog::logger>& log) {
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  const bool stopped =
+      outcome.code() == core::StatusCode::kCancelled && running.stop.stop_requested();
+  if (stopped && running.lease_lost) {
     // Another claim owns the job now: write nothing.
     log->warn("stopped after losing its lease; nothing recorded by this worker");
-    hub_.Finished(job.id);
     return;
-  } else if (stopped && running->cancel) {
-    stored = store_.Finish(job.id, running->epoch, JobState::kCancelled, "CANCELLED",
-                           report.status().message(), {}, wall_s, NowMs());
-    log->info("cancelled after {:.3f} s: {}", wall_s, report.status().message());
+  }
+  // A stopped run sits at a step boundary: keep its state so that it continues from here.
+  if (stopped && sim != nullptr && keeper.Write(*sim).code() == core::StatusCode::kAborted) {
+    log->warn("lease lost while writing the last checkpoint; nothing recorded");
+    return;
+  }
+  // Where the run ended, for every outcome (the periodic progress write may be a second old).
+  if (sim != nullptr && !(outcome.ok() && sim->finished())) {
+    const double fraction =
+        static_cast<double>(sim->step()) / static_cast<double>(sim->total_steps());
+    if (auto s = store_.UpdateProgress(job.id, running.epoch,
+                                       {sim->step(), sim->time_s(), fraction, 0.0});
+        !s.ok()) {
+      log->warn("last progress not stored: {}", s.ToString());
+    }
+  }
+  Status stored;
+  if (stopped && running.cancel) {
+    stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
+                           outcome.message(), {}, wall_s, NowMs());
+    log->info("cancelled after {:.3f} s: {}", wall_s, outcome.message());
   } else if (stopped) {
     // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again.
-    log->info("interrupted by shutdown after {:.3f} s; it will run again on restart", wall_s);
-    hub_.Finished(job.id);
+    log->info("interrupted by shutdown after {:.3f} s at step {}; it continues on restart", wall_s,
+              sim != nullptr ? sim->step() : 0);
+    AddEvent(job.id, "INTERRUPTED",
+             fmt::format("shutdown at step {}", sim != nullptr ? sim->step() : 0));
     return;
-  } else if (report.ok()) {
-    if (auto s = store_.UpdateProgress(job.id, running->epoch,
-                                       {report->steps, report->time_s, 1.0, 0.0});
+  } else if (outcome.ok() && sim != nullptr) {
+    const core::RunReport report = sim->Report();
+    const std::string state_sha = HexSha256(SerializeSimulationState(sim->TakeSnapshot()));
+    (void)keeper.Write(*sim);  // the final state, for exports and later jobs
+    if (auto s =
+            store_.UpdateProgress(job.id, running.epoch, {report.steps, report.time_s, 1.0, 0.0});
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
-    stored = store_.Finish(job.id, running->epoch, JobState::kSucceeded, "", "", report->metrics,
-                           wall_s, NowMs());
-    log->info("succeeded in {:.3f} s after {} steps", wall_s, report->steps);
+    stored = store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
+                                      report.series.values, state_sha);
+    if (stored.ok()) {
+      stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
+                             wall_s, NowMs());
+    }
+    log->info("succeeded in {:.3f} s after {} steps ({} checkpoints, {:.3f} s writing them)",
+              wall_s, report.steps, keeper.written(), keeper.seconds_writing());
   } else {
-    const Status& s = report.status();
-    stored = store_.Finish(job.id, running->epoch, JobState::kFailed,
-                           core::StatusCodeName(s.code()), s.message(), {}, wall_s, NowMs());
-    log->warn("failed: {}", s.ToString());
+    stored =
+        store_.Finish(job.id, running.epoch, JobState::kFailed,
+                      core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
+    log->warn("failed: {}", outcome.ToString());
   }
   if (!stored.ok()) log->error("could not record the outcome: {}", stored.ToString());
-  hub_.Finished(job.id);
+}
+
+void JobRunner::AddEvent(const std::string& id, const std::string& kind,
+                         const std::string& message) {
+  if (auto s = store_.AddEvent(id, NowMs(), kind, message); !s.ok()) {
+    logger_->warn("job {}: event not stored: {}", id, s.ToString());
+  }
 }
 
 }  // namespace seep::service

@@ -5,7 +5,10 @@
 // write a worker makes is fenced by its epoch, so a worker whose lease was taken over gets
 // ABORTED and stops its job without writing. Each running job has its own stop source: a user's
 // cancel stops that job only (recorded CANCELLED), shutdown stops all of them at a step boundary
-// and leaves them RUNNING in the store, so the next seepd start queues them again.
+// and leaves them RUNNING in the store, so the next seepd start queues them again. Running jobs
+// write periodic checkpoints (CheckpointKeeper), one more when they are stopped, and a claimed
+// job continues from its newest usable checkpoint: after a crash, a shutdown, a cancel or a
+// failure followed by ResumeJob.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -19,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "jobs/checkpoint_keeper.h"
 #include "jobs/job_hub.h"
 #include "store/job_store.h"
 
@@ -33,6 +37,8 @@ struct JobRunnerOptions {
   std::string lease_owner = "seepd";
   std::chrono::milliseconds lease_duration{30000};
   std::chrono::milliseconds heartbeat_interval{2000};
+  // Periodic checkpoints of running jobs, and resume from them (dir empty = off).
+  CheckpointPolicy checkpoints;
 };
 
 class JobRunner {
@@ -65,6 +71,13 @@ class JobRunner {
   // Renews one lease; on a pending cancel or a lost lease, stops the job.
   void Renew(const std::string& id, Running& running);
   void RunJob(const JobRecord& job, const std::stop_token& shutdown);
+  // Records how the run ended: a checkpoint for a stopped run, then the terminal state (or none
+  // for a shutdown, which leaves the job RUNNING for the next start).
+  void Finish(const JobRecord& job, Running& running, const core::Status& outcome,
+              const core::Simulation* sim, CheckpointKeeper& keeper,
+              std::chrono::steady_clock::time_point wall_start,
+              const std::shared_ptr<spdlog::logger>& log);
+  void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
 
   JobStore& store_;
   JobHub& hub_;

@@ -41,6 +41,11 @@ struct JobRecord {
   // Sorted by name; filled for finished jobs.
   std::vector<std::pair<std::string, double>> metrics;
   double wall_time_s = 0.0;
+  // A SUCCEEDED run's samples over time (row-major, series_columns[0] = "time_s") and the
+  // SHA-256 (hex) of its final state: equal hashes mean bit-identical final states.
+  std::vector<std::string> series_columns;
+  std::vector<double> series_values;
+  std::string state_sha256;
   // 1 for the first run; Resume adds one.
   std::uint32_t attempt = 1;
   // Set by Cancel on a RUNNING job; the worker that holds the lease stops and records CANCELLED.
@@ -50,6 +55,23 @@ struct JobRecord {
   std::optional<std::string> lease_owner;
   std::int64_t lease_epoch = 0;
   std::optional<std::int64_t> lease_expires_at_ms;
+};
+
+// One checkpoint file of a job, as the store records it.
+struct CheckpointRecord {
+  std::uint64_t step = 0;
+  double time_s = 0.0;
+  std::string path;
+  std::int64_t bytes = 0;
+  std::uint32_t attempt = 1;
+  std::int64_t created_at_ms = 0;
+};
+
+// One line of a job's history: kind is a short word (CLAIMED, RESUMED, CHECKPOINT_SKIPPED, ...).
+struct JobEventRecord {
+  std::int64_t at_ms = 0;
+  std::string kind;
+  std::string message;
 };
 
 }  // namespace seep::service

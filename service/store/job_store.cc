@@ -44,6 +44,34 @@ ALTER TABLE jobs ADD COLUMN lease_owner TEXT;
 ALTER TABLE jobs ADD COLUMN lease_epoch INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN lease_expires_at_ms INTEGER;
 )sql",
+    // v3: checkpoint files, a finished run's time series and final-state hash, and a per-job
+    // event log (claims, resumes, skipped checkpoints, shutdown interruptions).
+    R"sql(
+CREATE TABLE checkpoints (
+  job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  step INTEGER NOT NULL,
+  time_s REAL NOT NULL,
+  path TEXT NOT NULL,
+  bytes INTEGER NOT NULL,
+  attempt INTEGER NOT NULL,
+  created_at_ms INTEGER NOT NULL,
+  PRIMARY KEY (job_id, step)
+) STRICT;
+CREATE TABLE result_series (
+  job_id TEXT PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
+  columns TEXT NOT NULL,
+  vals BLOB NOT NULL,
+  state_sha256 TEXT NOT NULL
+) STRICT;
+CREATE TABLE events (
+  id INTEGER PRIMARY KEY,
+  job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  at_ms INTEGER NOT NULL,
+  kind TEXT NOT NULL,
+  message TEXT NOT NULL
+) STRICT;
+CREATE INDEX events_by_job ON events(job_id, id);
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 static_assert(kMigrationCount == JobStore::kSchemaVersion);
@@ -170,6 +198,7 @@ Result<JobRecord> JobStore::GetLocked(const std::string& id, bool with_scene) {
     if (!more) break;
     job.metrics.emplace_back(m.ColumnText(0), m.ColumnDouble(1));
   }
+  SEEP_RETURN_IF_ERROR(ReadResultSeriesLocked(job));
   return job;
 }
 
@@ -347,9 +376,12 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
                            "lease_expires_at_ms = NULL WHERE id = ?"));
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
-  SEEP_ASSIGN_OR_RETURN(Stmt clear, db_->Prepare("DELETE FROM results WHERE job_id = ?"));
-  clear.Bind(1, std::string_view(id));
-  SEEP_RETURN_IF_ERROR(clear.Run());
+  for (const char* table : {"results", "result_series"}) {
+    SEEP_ASSIGN_OR_RETURN(Stmt clear,
+                          db_->Prepare(fmt::format("DELETE FROM {} WHERE job_id = ?", table)));
+    clear.Bind(1, std::string_view(id));
+    SEEP_RETURN_IF_ERROR(clear.Run());
+  }
   SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return now;

@@ -38,7 +38,7 @@ struct JobPage {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 2;
+  static constexpr int kSchemaVersion = 3;
   ~JobStore();
 
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
@@ -72,6 +72,24 @@ class JobStore {
   // FAILED_PRECONDITION; unknown -> NOT_FOUND. Returns the job as it is now.
   Result<JobRecord> Resume(const std::string& id);
 
+  // Checkpoint files of a job (job_store_checkpoints.cc). Record is fenced by the lease epoch;
+  // it replaces a record of the same step and returns the records beyond the newest `keep`,
+  // already removed from the store, whose files the caller deletes.
+  Result<std::vector<CheckpointRecord>> RecordCheckpoint(const std::string& id, std::int64_t epoch,
+                                                         const CheckpointRecord& checkpoint,
+                                                         std::uint32_t keep);
+  // Newest (highest step) first.
+  Result<std::vector<CheckpointRecord>> ListCheckpoints(const std::string& id);
+  // The time series and final-state hash of a run that succeeded, fenced by the lease epoch;
+  // stored before Finish so that a job is never SUCCEEDED without them.
+  Status StoreResultSeries(const std::string& id, std::int64_t epoch,
+                           const std::vector<std::string>& columns,
+                           const std::vector<double>& values, const std::string& state_sha256);
+  // The job's event log, oldest first. Adding to a job that does not exist is NOT_FOUND.
+  Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
+                  const std::string& message);
+  Result<std::vector<JobEventRecord>> ListEvents(const std::string& id);
+
   // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
   // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
   Result<int> RequeueRunning(const std::string& current_owner);
@@ -80,6 +98,7 @@ class JobStore {
   explicit JobStore(std::unique_ptr<Db> db);
   Status Migrate();
   Result<JobRecord> GetLocked(const std::string& id, bool with_scene);
+  Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
 
   std::mutex mutex_;

@@ -395,9 +395,77 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 2);
+  EXPECT_EQ(JobStore::kSchemaVersion, 3);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
+}
+
+TEST_F(JobStoreTest, CheckpointsAreFencedListedNewestFirstAndRotated) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
+  std::vector<CheckpointRecord> dropped_all;
+  for (std::uint64_t step : {10u, 20u, 30u, 40u}) {
+    CheckpointRecord c;
+    c.step = step;
+    c.time_s = 0.5 * static_cast<double>(step);
+    c.path = "/x/ckpt-" + std::to_string(step) + ".bin";
+    c.bytes = 100 + static_cast<std::int64_t>(step);
+    auto dropped = store_->RecordCheckpoint("a", epoch, c, /*keep=*/2);
+    ASSERT_TRUE(dropped.ok()) << dropped.status().ToString();
+    dropped_all.insert(dropped_all.end(), dropped->begin(), dropped->end());
+  }
+  // Keeping 2: steps 10 and 20 were handed back for deletion, in that order of rotation.
+  ASSERT_EQ(dropped_all.size(), 2u);
+  EXPECT_EQ(dropped_all[0].step, 10u);
+  EXPECT_EQ(dropped_all[1].path, "/x/ckpt-20.bin");
+  auto listed = store_->ListCheckpoints("a");
+  ASSERT_TRUE(listed.ok());
+  ASSERT_EQ(listed->size(), 2u);
+  EXPECT_EQ((*listed)[0].step, 40u);
+  EXPECT_EQ((*listed)[0].bytes, 140);
+  EXPECT_DOUBLE_EQ((*listed)[0].time_s, 20.0);
+  EXPECT_EQ((*listed)[1].step, 30u);
+  // A worker with an older lease records nothing.
+  CheckpointRecord stale;
+  stale.step = 50;
+  stale.path = "/x/ckpt-50.bin";
+  EXPECT_EQ(store_->RecordCheckpoint("a", epoch - 1, stale, 2).status().code(),
+            core::StatusCode::kAborted);
+  EXPECT_EQ(store_->ListCheckpoints("a")->size(), 2u);
+}
+
+TEST_F(JobStoreTest, ResultSeriesAndStateHashComeBackWithTheJob) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
+  const std::vector<std::string> columns = {"time_s", "inflow_m2_per_s"};
+  const std::vector<double> values = {0.0, 1.5, 0.25, -2.0e-300};
+  ASSERT_TRUE(store_->StoreResultSeries("a", epoch, columns, values, "ab12").ok());
+  EXPECT_EQ(store_->StoreResultSeries("a", epoch + 1, columns, values, "x").code(),
+            core::StatusCode::kAborted);
+  EXPECT_EQ(store_->StoreResultSeries("a", epoch, {"bad,name"}, {}, "x").code(),
+            core::StatusCode::kInvalidArgument);
+  ASSERT_TRUE(
+      store_->Finish("a", epoch, JobState::kSucceeded, "", "", {{"k", 2.0}}, 1.0, 300).ok());
+  auto job = store_->Get("a");
+  ASSERT_TRUE(job.ok());
+  EXPECT_EQ(job->series_columns, columns);
+  EXPECT_EQ(job->series_values, values);  // bit-exact through the blob
+  EXPECT_EQ(job->state_sha256, "ab12");
+}
+
+TEST_F(JobStoreTest, EventsAreKeptInOrderPerJob) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
+  ASSERT_TRUE(store_->AddEvent("a", 5, "CLAIMED", "attempt 1").ok());
+  ASSERT_TRUE(store_->AddEvent("b", 6, "CLAIMED", "attempt 1").ok());
+  ASSERT_TRUE(store_->AddEvent("a", 7, "RESUMED", "from step 40").ok());
+  EXPECT_EQ(store_->AddEvent("missing", 8, "X", "").code(), core::StatusCode::kNotFound);
+  auto events = store_->ListEvents("a");
+  ASSERT_TRUE(events.ok());
+  ASSERT_EQ(events->size(), 2u);
+  EXPECT_EQ((*events)[0].kind, "CLAIMED");
+  EXPECT_EQ((*events)[1].at_ms, 7);
+  EXPECT_EQ((*events)[1].message, "from step 40");
 }
 
 }  // namespace

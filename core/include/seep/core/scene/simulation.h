@@ -1,0 +1,117 @@
+// Simulation: one scene as a live, steppable, snapshottable run (design-anchors §5.3, after
+// OpenMM's Context). Create() builds the packing, contacts, domains, pipes and the solver the
+// scene names; Run() advances to the end time (or does the one steady solve) and can be stopped at
+// any step boundary; TakeSnapshot()/Restore() carry the state across a process restart so that a
+// resumed run ends bit-identical to an uninterrupted one on the same build.
+//
+// Determinism across a resume rests on three facts: the step count and step size come from the
+// scene only (dt = dt_factor * dt_crit of the network built from the scene); the last step lands
+// on end_time_s exactly; samples and progress fire at fixed step numbers, never on wall time.
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stop_token>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "seep/core/flow/explicit_solver.h"
+#include "seep/core/flow/implicit_solver.h"
+#include "seep/core/scene/scene_network.h"
+#include "seep/core/scene/scene_spec.h"
+#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+class Simulation;
+
+struct RunProgress {
+  std::uint64_t step = 0;
+  double time_s = 0.0;         // simulated time
+  double fraction_done = 0.0;  // 0..1
+};
+
+struct RunControl {
+  // Called from the running thread at the scene's progress interval; must not block for long.
+  std::function<void(const RunProgress&)> on_progress;
+  // Called after every completed step with the simulation at a consistent step boundary: the
+  // place to take a snapshot (the job service writes its periodic checkpoints from here).
+  std::function<void(const Simulation&)> at_step_end;
+  // A stop request ends the run at the next step boundary with a kCancelled status.
+  std::stop_token stop;
+  // Where the run logs (the service passes a logger named after the job); null = core::Logger().
+  std::shared_ptr<spdlog::logger> logger;
+};
+
+struct RunReport {
+  // Named measurements, sorted by name. Linear boundary: inflow/outflow_m2_per_s,
+  // permeability_m2 (k = mu Q L / (H dP) with sample_length_m and sample_width_m, see
+  // scene_network.h), and for lattices lattice_permeability_m2 and permeability_relative_error.
+  // Radial boundary: well_flow_rate_m2_per_s (out of the well into the sample, > 0 when
+  // p_w > p_e), outer_flow_rate_m2_per_s (into the outer reservoir), outer_reservoir_radius_m,
+  // well_area_m2. Transient: dt_s, dt_crit_s, dt_over_dt_crit, limiting_domain,
+  // mass_balance_error_max. Always: counts, porosity_2d, min/max_pressure_pa, steps,
+  // simulated_time_s.
+  std::vector<std::pair<std::string, double>> metrics;
+  std::uint64_t steps = 0;
+  double time_s = 0.0;
+  // Boundary rates, pressure range and step mass-balance error over time (see Simulation).
+  TimeSeries series;
+};
+
+class Simulation {
+ public:
+  static Result<Simulation> Create(const SceneSpec& scene,
+                                   std::shared_ptr<spdlog::logger> logger = nullptr);
+
+  // Continues from a snapshot taken from a simulation of the same scene. The snapshot's shape is
+  // checked against this scene's network (DATA_LOSS naming what does not match); on error the
+  // simulation is unchanged.
+  Status Restore(const SimulationSnapshot& snapshot);
+  SimulationSnapshot TakeSnapshot() const;
+
+  // Advances until finished() or a stop request (kCancelled, the state stays at a step boundary
+  // and can be snapshotted or run further). A numerical failure (non-finite pressure) is
+  // FAILED_PRECONDITION with what to change.
+  Status Run(const RunControl& control);
+
+  bool finished() const { return step_ >= total_steps_; }
+  std::uint64_t step() const { return step_; }
+  double time_s() const { return time_s_; }
+  std::uint64_t total_steps() const { return total_steps_; }
+  double dt_s() const { return dt_; }  // 0 for a steady scene
+  const SceneSpec& scene() const { return scene_; }
+  const SceneNetwork& network() const { return net_; }
+
+  // The measurements of the current state (the final ones once Run() returned OK).
+  RunReport Report() const;
+
+ private:
+  using Solver = std::variant<std::monostate, ExplicitSolver, ImplicitSolver>;
+  Simulation(SceneSpec scene, SceneNetwork net, std::shared_ptr<spdlog::logger> logger);
+  Status PrepareTransient();
+  Status StepOnce();
+  void Sample(double step_mass_balance_error);
+
+  SceneSpec scene_;
+  SceneNetwork net_;
+  std::shared_ptr<spdlog::logger> log_;
+  Solver solver_;
+  double dt_ = 0.0;
+  double dt_crit_ = 0.0;
+  std::int32_t limiting_domain_ = -1;
+  std::uint64_t total_steps_ = 1;
+  std::uint64_t sample_every_ = 1;
+  std::uint64_t step_ = 0;
+  double time_s_ = 0.0;
+  double worst_mass_balance_ = 0.0;
+  TimeSeries series_;
+};
+
+}  // namespace seep::core

@@ -1,0 +1,141 @@
+#include "jobs/checkpoint_keeper.h"
+
+#include <fmt/format.h>
+
+#include <system_error>
+
+#include "codec/checkpoint_io.h"
+#include "codec/simulation_state_codec.h"
+
+namespace seep::service {
+namespace {
+
+std::int64_t NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,
+                                   const JobRecord& job, std::string build_id,
+                                   std::shared_ptr<spdlog::logger> log)
+    : store_(store),
+      policy_(policy),
+      job_(job),
+      build_id_(std::move(build_id)),
+      scene_sha256_(Sha256(job.scene)),
+      log_(std::move(log)),
+      last_time_(std::chrono::steady_clock::now()) {}
+
+void CheckpointKeeper::Event(const std::string& kind, const std::string& message) {
+  if (auto s = store_.AddEvent(job_.id, NowMs(), kind, message); !s.ok()) {
+    log_->warn("event not stored: {}", s.ToString());
+  }
+}
+
+std::optional<std::uint64_t> CheckpointKeeper::RestoreNewest(core::Simulation& sim) {
+  auto records = store_.ListCheckpoints(job_.id);
+  if (!records.ok()) {
+    log_->warn("checkpoints not listed ({}); starting from the beginning",
+               records.status().ToString());
+    return std::nullopt;
+  }
+  for (const CheckpointRecord& record : *records) {
+    const std::string name = std::filesystem::path(record.path).filename().string();
+    const auto skip = [&](const std::string& why) {
+      log_->warn("checkpoint {} (step {}) skipped: {}", name, record.step, why);
+      Event("CHECKPOINT_SKIPPED", fmt::format("{} (step {}): {}", name, record.step, why));
+    };
+    auto file = ReadCheckpointFile(record.path);
+    if (!file.ok()) {
+      skip(file.status().ToString());
+      continue;
+    }
+    if (file->meta.scene_sha256 != scene_sha256_ || file->meta.job_id != job_.id) {
+      skip("it belongs to another job or scene");
+      continue;
+    }
+    auto snapshot = ParseSimulationState(file->state);
+    if (!snapshot.ok()) {
+      skip(snapshot.status().ToString());
+      continue;
+    }
+    if (auto restored = sim.Restore(*snapshot); !restored.ok()) {
+      skip(restored.ToString());
+      continue;
+    }
+    if (file->meta.build_id != build_id_) {
+      const std::string note = fmt::format(
+          "checkpoint written by build {}, continued by build {}: bit-identity with an "
+          "uninterrupted run is promised only for the same build",
+          file->meta.build_id, build_id_);
+      log_->warn("{}", note);
+      Event("BUILD_CHANGED", note);
+    }
+    last_step_ = snapshot->step;
+    last_time_ = std::chrono::steady_clock::now();
+    log_->info("resumed from checkpoint {} at step {} (t = {} s)", name, snapshot->step,
+               snapshot->time_s);
+    Event("RESUMED",
+          fmt::format("from {} at step {} of {}", name, snapshot->step, sim.total_steps()));
+    return snapshot->step;
+  }
+  return std::nullopt;
+}
+
+core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
+  if (!enabled() || sim.finished()) return core::Status::Ok();  // the end writes its own
+  const bool by_steps = policy_.every_steps > 0 && sim.step() - last_step_ >= policy_.every_steps;
+  const bool by_time = policy_.interval.count() > 0 &&
+                       std::chrono::steady_clock::now() - last_time_ >= policy_.interval;
+  if (!by_steps && !by_time) return core::Status::Ok();
+  return Write(sim);
+}
+
+core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
+  if (!enabled()) return core::Status::Ok();
+  const auto start = std::chrono::steady_clock::now();
+  last_step_ = sim.step();
+  last_time_ = start;
+  const std::filesystem::path dir = policy_.dir / job_.id;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::filesystem::path path = dir / fmt::format("ckpt-{:012}.bin", sim.step());
+  CheckpointMeta meta;
+  meta.build_id = build_id_;
+  meta.job_id = job_.id;
+  meta.scene_sha256 = scene_sha256_;
+  meta.step = sim.step();
+  meta.time_s = sim.time_s();
+  const std::string state = SerializeSimulationState(sim.TakeSnapshot());
+  if (auto s = WriteCheckpointFile(path, meta, state); !s.ok()) {
+    log_->warn("checkpoint at step {} not written: {}", sim.step(), s.ToString());
+    Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));
+    return core::Status::Ok();
+  }
+  CheckpointRecord record;
+  record.step = sim.step();
+  record.time_s = sim.time_s();
+  record.path = path.string();
+  record.bytes = static_cast<std::int64_t>(std::filesystem::file_size(path, ec));
+  record.attempt = job_.attempt;
+  record.created_at_ms = NowMs();
+  auto dropped = store_.RecordCheckpoint(job_.id, job_.lease_epoch, record, policy_.keep);
+  if (!dropped.ok()) {
+    if (dropped.status().code() == core::StatusCode::kAborted) return dropped.status();
+    log_->warn("checkpoint at step {} not recorded: {}", sim.step(), dropped.status().ToString());
+    return core::Status::Ok();
+  }
+  for (const CheckpointRecord& old : *dropped) {
+    if (old.path != record.path) std::filesystem::remove(old.path, ec);
+  }
+  ++written_;
+  seconds_writing_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  log_->debug("checkpoint at step {} ({} bytes)", record.step, record.bytes);
+  return core::Status::Ok();
+}
+
+}  // namespace seep::service

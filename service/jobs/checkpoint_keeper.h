@@ -1,0 +1,72 @@
+// CheckpointKeeper: the periodic checkpoints of one running job, and the resume from them.
+//
+// Files live in <dir>/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified). A checkpoint
+// is due every `every_steps` steps or `interval` of wall time, whichever comes first (either may
+// be off); only the newest `keep` files are kept, and each one is recorded in the store (fenced
+// by the job's lease epoch) before older ones are deleted. Resume tries the recorded files newest
+// first and takes the first one that verifies, belongs to this scene and restores; every file it
+// skips is logged and recorded as a job event with the reason.
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "seep/core/scene/simulation.h"
+#include "seep/core/status.h"
+#include "store/job_store.h"
+
+namespace seep::service {
+
+struct CheckpointPolicy {
+  std::filesystem::path dir;                  // empty = checkpoints off
+  std::uint64_t every_steps = 0;              // 0 = no step trigger
+  std::chrono::milliseconds interval{30000};  // 0 = no wall-time trigger
+  std::uint32_t keep = 3;
+};
+
+class CheckpointKeeper {
+ public:
+  CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy, const JobRecord& job,
+                   std::string build_id, std::shared_ptr<spdlog::logger> log);
+
+  bool enabled() const { return !policy_.dir.empty(); }
+
+  // Restores `sim` from the newest usable checkpoint of the job. Returns the step it continues
+  // from, or nullopt when there is none (the run starts from the beginning).
+  std::optional<std::uint64_t> RestoreNewest(core::Simulation& sim);
+
+  // The run starts (after a restore, if any): the wall-time trigger counts from here.
+  void StartClock() { last_time_ = std::chrono::steady_clock::now(); }
+
+  // Called at every step end: writes a checkpoint when one is due (see Write for the status).
+  core::Status MaybeWrite(const core::Simulation& sim);
+  // Writes one now (at shutdown, cancel and the end of a run). A failure is logged and recorded
+  // as an event; the run goes on (its result is still correct, only less protected). A lost
+  // lease is returned as ABORTED so the caller stops.
+  core::Status Write(const core::Simulation& sim);
+
+  std::uint64_t written() const { return written_; }
+  double seconds_writing() const { return seconds_writing_; }
+
+ private:
+  void Event(const std::string& kind, const std::string& message);
+
+  JobStore& store_;
+  CheckpointPolicy policy_;
+  const JobRecord& job_;
+  std::string build_id_;
+  std::string scene_sha256_;
+  std::shared_ptr<spdlog::logger> log_;
+  std::uint64_t last_step_ = 0;
+  std::chrono::steady_clock::time_point last_time_;
+  std::uint64_t written_ = 0;
+  double seconds_writing_ = 0.0;
+};
+
+}  // namespace seep::service

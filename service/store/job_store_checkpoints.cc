@@ -1,0 +1,201 @@
+// JobStore: checkpoint records, result series and the per-job event log (schema v3).
+#include <fmt/format.h>
+
+#include <cstring>
+
+#include "job_store.h"
+#include "sqlite_handle.h"
+
+namespace seep::service {
+namespace {
+
+Status LeaseLostForWrite(const std::string& id, std::int64_t epoch) {
+  return core::Aborted(fmt::format(
+      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
+}
+
+// The columns of a time series travel as one text, separated by commas (names never hold one).
+std::string JoinColumns(const std::vector<std::string>& columns) {
+  std::string out;
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) out += ',';
+    out += columns[i];
+  }
+  return out;
+}
+
+std::vector<std::string> SplitColumns(const std::string& text) {
+  std::vector<std::string> out;
+  if (text.empty()) return out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(text.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+// Doubles as their native bytes: the store is read back on the machine that wrote it.
+std::string DoublesToBlob(const std::vector<double>& values) {
+  std::string blob(values.size() * sizeof(double), '\0');
+  if (!values.empty()) std::memcpy(blob.data(), values.data(), blob.size());
+  return blob;
+}
+
+std::vector<double> BlobToDoubles(const std::string& blob) {
+  std::vector<double> values(blob.size() / sizeof(double));
+  if (!values.empty()) std::memcpy(values.data(), blob.data(), values.size() * sizeof(double));
+  return values;
+}
+
+// Fails with ABORTED unless the job is RUNNING under `epoch`.
+Status CheckLease(Db& db, const std::string& id, std::int64_t epoch) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db.Prepare("SELECT 1 FROM jobs WHERE id = ? AND lease_epoch = ? AND state = "
+                         "'RUNNING'"));
+  s.Bind(1, std::string_view(id)).Bind(2, epoch);
+  SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+  if (!row) return LeaseLostForWrite(id, epoch);
+  return Status::Ok();
+}
+
+CheckpointRecord ReadCheckpointRow(const Stmt& s) {
+  CheckpointRecord c;
+  c.step = static_cast<std::uint64_t>(s.ColumnInt(0));
+  c.time_s = s.ColumnDouble(1);
+  c.path = s.ColumnText(2);
+  c.bytes = s.ColumnInt(3);
+  c.attempt = static_cast<std::uint32_t>(s.ColumnInt(4));
+  c.created_at_ms = s.ColumnInt(5);
+  return c;
+}
+
+constexpr const char* kCheckpointColumns = "step, time_s, path, bytes, attempt, created_at_ms";
+
+}  // namespace
+
+Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::string& id,
+                                                                 std::int64_t epoch,
+                                                                 const CheckpointRecord& checkpoint,
+                                                                 std::uint32_t keep) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt insert,
+      db_->Prepare(fmt::format("INSERT OR REPLACE INTO checkpoints (job_id, {}) VALUES (?, ?, ?, "
+                               "?, ?, ?, ?)",
+                               kCheckpointColumns)));
+  insert.Bind(1, std::string_view(id))
+      .Bind(2, static_cast<std::int64_t>(checkpoint.step))
+      .Bind(3, checkpoint.time_s)
+      .Bind(4, std::string_view(checkpoint.path))
+      .Bind(5, checkpoint.bytes)
+      .Bind(6, static_cast<std::int64_t>(checkpoint.attempt))
+      .Bind(7, checkpoint.created_at_ms);
+  SEEP_RETURN_IF_ERROR(insert.Run());
+  // The records beyond the newest `keep` (keep >= 1: the one just written always stays).
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt old, db_->Prepare(fmt::format("DELETE FROM checkpoints WHERE job_id = ? AND step NOT IN "
+                                         "(SELECT step FROM checkpoints WHERE job_id = ? ORDER BY "
+                                         "step DESC LIMIT ?) RETURNING {}",
+                                         kCheckpointColumns)));
+  old.Bind(1, std::string_view(id))
+      .Bind(2, std::string_view(id))
+      .Bind(3, static_cast<std::int64_t>(std::max<std::uint32_t>(keep, 1)));
+  std::vector<CheckpointRecord> dropped;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, old.Step());
+    if (!row) break;
+    dropped.push_back(ReadCheckpointRow(old));
+  }
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return dropped;
+}
+
+Result<std::vector<CheckpointRecord>> JobStore::ListCheckpoints(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s,
+      db_->Prepare(fmt::format("SELECT {} FROM checkpoints WHERE job_id = ? ORDER BY step DESC",
+                               kCheckpointColumns)));
+  s.Bind(1, std::string_view(id));
+  std::vector<CheckpointRecord> out;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+    if (!row) break;
+    out.push_back(ReadCheckpointRow(s));
+  }
+  return out;
+}
+
+Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
+                                   const std::vector<std::string>& columns,
+                                   const std::vector<double>& values,
+                                   const std::string& state_sha256) {
+  for (const auto& c : columns) {
+    if (c.empty() || c.find(',') != std::string::npos) {
+      return core::InvalidArgument(
+          fmt::format("store: series column '{}' must be non-empty and hold no comma", c));
+    }
+  }
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_ASSIGN_OR_RETURN(Stmt s,
+                        db_->Prepare("INSERT OR REPLACE INTO result_series (job_id, columns, vals, "
+                                     "state_sha256) VALUES (?, ?, ?, ?)"));
+  const std::string joined = JoinColumns(columns);
+  s.Bind(1, std::string_view(id))
+      .Bind(2, std::string_view(joined))
+      .BindBlob(3, DoublesToBlob(values))
+      .Bind(4, std::string_view(state_sha256));
+  SEEP_RETURN_IF_ERROR(s.Run());
+  return tx.Commit();
+}
+
+Status JobStore::ReadResultSeriesLocked(JobRecord& job) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s,
+      db_->Prepare("SELECT columns, vals, state_sha256 FROM result_series WHERE job_id = ?"));
+  s.Bind(1, std::string_view(job.id));
+  SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+  if (!row) return Status::Ok();
+  job.series_columns = SplitColumns(s.ColumnText(0));
+  job.series_values = BlobToDoubles(s.ColumnBlob(1));
+  job.state_sha256 = s.ColumnText(2);
+  return Status::Ok();
+}
+
+Status JobStore::AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
+                          const std::string& message) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare("INSERT INTO events (job_id, at_ms, kind, message) SELECT id, ?, ?, ? "
+                           "FROM jobs WHERE id = ?"));
+  s.Bind(1, at_ms)
+      .Bind(2, std::string_view(kind))
+      .Bind(3, std::string_view(message))
+      .Bind(4, std::string_view(id));
+  SEEP_RETURN_IF_ERROR(s.Run());
+  if (db_->Changes() != 1) return core::NotFound(fmt::format("job {} not found", id));
+  return Status::Ok();
+}
+
+Result<std::vector<JobEventRecord>> JobStore::ListEvents(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare("SELECT at_ms, kind, message FROM events WHERE job_id = ? ORDER BY id"));
+  s.Bind(1, std::string_view(id));
+  std::vector<JobEventRecord> out;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+    if (!row) break;
+    out.push_back({s.ColumnInt(0), s.ColumnText(1), s.ColumnText(2)});
+  }
+  return out;
+}
+
+}  // namespace seep::service
