@@ -8,8 +8,10 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <random>
+#include <sstream>
 
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
@@ -23,19 +25,93 @@ namespace {
 std::shared_ptr<grpc::Channel> Connect(const GlobalOptions& global) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(128 << 20);
-  return grpc::CreateCustomChannel(global.server, grpc::InsecureChannelCredentials(), args);
+  if (!global.tls && global.tls_ca.empty()) {
+    return grpc::CreateCustomChannel(global.server, grpc::InsecureChannelCredentials(), args);
+  }
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = global.tls_ca_pem;  // empty: the system's roots
+  return grpc::CreateCustomChannel(global.server, grpc::SslCredentials(ssl), args);
 }
 
-void SetDeadline(const GlobalOptions& global, grpc::ClientContext* ctx) {
+// Plain metadata rather than call credentials: gRPC only sends call credentials over secure
+// channels, and a token-protected seepd may also be plaintext on loopback.
+void AddToken(const GlobalOptions& global, grpc::ClientContext* ctx) {
+  if (!global.token.empty()) ctx->AddMetadata("authorization", "Bearer " + global.token);
+}
+
+// Deadline and token: what every call but WatchJob needs.
+void PrepareCall(const GlobalOptions& global, grpc::ClientContext* ctx) {
   ctx->set_deadline(std::chrono::system_clock::now() +
                     std::chrono::milliseconds(static_cast<long>(global.timeout_s * 1000)));
+  AddToken(global, ctx);
 }
+
+std::string Trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return {};
+  return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
+}
+
+bool ReadFile(const std::string& path, std::string* content) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  *content = buffer.str();
+  return true;
+}
+
+}  // namespace
+
+int LoadCredentials(GlobalOptions* global) {
+  constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+  if (!global->token_file.empty()) {
+    std::string content;
+    if (!ReadFile(global->token_file, &content)) {
+      std::fprintf(stderr, "seep: --token-file %s: cannot be read\n", global->token_file.c_str());
+      return kBadInput;
+    }
+    global->token = Trim(content);
+    if (global->token.empty()) {
+      std::fprintf(stderr, "seep: --token-file %s: is empty\n", global->token_file.c_str());
+      return kBadInput;
+    }
+  }
+  for (const char c : global->token) {
+    if (c < 0x21 || c > 0x7e) {
+      std::fprintf(stderr,
+                   "seep: --token: only visible ASCII characters are allowed (no spaces or "
+                   "control characters)\n");
+      return kBadInput;
+    }
+  }
+  if (!global->tls_ca.empty()) {
+    if (!ReadFile(global->tls_ca, &global->tls_ca_pem) ||
+        global->tls_ca_pem.find("-----BEGIN") == std::string::npos) {
+      std::fprintf(stderr, "seep: --tls-ca %s: cannot read a PEM certificate from it\n",
+                   global->tls_ca.c_str());
+      return kBadInput;
+    }
+  }
+  return 0;
+}
+
+namespace {
 
 int ReportRpcError(const GlobalOptions& global, const char* what, const grpc::Status& status) {
   if (status.error_code() == grpc::StatusCode::UNAVAILABLE ||
       status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
-    std::fprintf(stderr, "seep: %s: server %s unreachable: %s\n", what, global.server.c_str(),
-                 status.error_message().c_str());
+    // A TLS mismatch looks like an unreachable server to gRPC: say which side to check.
+    const std::string& message = status.error_message();
+    const char* hint = "";
+    if (message.find("Ssl handshake failed") != std::string::npos) {
+      hint = " (TLS: is --tls-ca the certificate seepd serves?)";
+    } else if (!global.tls && global.tls_ca.empty() &&
+               message.find("Socket closed") != std::string::npos) {
+      hint = " (if seepd serves TLS, connect with --tls-ca or --tls)";
+    }
+    std::fprintf(stderr, "seep: %s: server %s unreachable: %s%s\n", what, global.server.c_str(),
+                 message.c_str(), hint);
     return static_cast<int>(grpc::StatusCode::UNAVAILABLE);
   }
   std::fprintf(stderr, "seep: %s: %s\n", what, status.error_message().c_str());
@@ -87,7 +163,7 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
 
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
     return ReportRpcError(global, "submit", status);
@@ -105,6 +181,7 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
 int Watch(const GlobalOptions& global, const std::string& job_id) {
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;  // no deadline: a watch lasts as long as the job
+  AddToken(global, &ctx);
   v1::WatchJobRequest request;
   request.set_id(job_id);
   auto reader = stub->WatchJob(&ctx, request);
@@ -137,7 +214,7 @@ int Watch(const GlobalOptions& global, const std::string& job_id) {
 int Show(const GlobalOptions& global, const std::string& job_id) {
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   v1::GetJobRequest request;
   request.set_id(job_id);
   v1::GetJobResponse response;
@@ -174,7 +251,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
   std::string token;
   do {
     grpc::ClientContext ctx;
-    SetDeadline(global, &ctx);
+    PrepareCall(global, &ctx);
     v1::ListJobsRequest request;
     request.set_page_size(std::min(limit - static_cast<unsigned>(all.jobs_size()), 1000u));
     request.set_page_token(token);
@@ -199,7 +276,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
 int Cancel(const GlobalOptions& global, const std::string& job_id) {
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   v1::CancelJobRequest request;
   request.set_id(job_id);
   v1::CancelJobResponse response;
@@ -221,7 +298,7 @@ int Cancel(const GlobalOptions& global, const std::string& job_id) {
 int Resume(const GlobalOptions& global, const std::string& job_id) {
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   v1::ResumeJobRequest request;
   request.set_id(job_id);
   v1::ResumeJobResponse response;
@@ -240,7 +317,7 @@ int Resume(const GlobalOptions& global, const std::string& job_id) {
 int Result(const GlobalOptions& global, const std::string& job_id) {
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   v1::GetResultRequest request;
   request.set_id(job_id);
   v1::GetResultResponse response;
@@ -259,7 +336,7 @@ int Health(const GlobalOptions& global) {
   auto channel = Connect(global);
   auto health = grpc::health::v1::Health::NewStub(channel);
   grpc::ClientContext ctx;
-  SetDeadline(global, &ctx);
+  PrepareCall(global, &ctx);
   grpc::health::v1::HealthCheckRequest request;
   grpc::health::v1::HealthCheckResponse response;
   if (auto status = health->Check(&ctx, request, &response); !status.ok()) {
@@ -272,7 +349,7 @@ int Health(const GlobalOptions& global) {
   // Which services the server offers, through gRPC server reflection (v1alpha in gRPC 1.51).
   auto reflection = grpc::reflection::v1alpha::ServerReflection::NewStub(channel);
   grpc::ClientContext rctx;
-  SetDeadline(global, &rctx);
+  PrepareCall(global, &rctx);
   auto stream = reflection->ServerReflectionInfo(&rctx);
   grpc::reflection::v1alpha::ServerReflectionRequest list;
   list.set_list_services("");

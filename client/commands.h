@@ -15,7 +15,16 @@ struct GlobalOptions {
   std::string server = "127.0.0.1:50051";
   double timeout_s = 10.0;
   bool json = false;
+  std::string token;       // sent as 'authorization: Bearer <token>' when not empty
+  std::string token_file;  // read into `token` by LoadCredentials
+  bool tls = false;        // TLS with the system's root certificates
+  std::string tls_ca;      // TLS trusting this PEM CA file (implies tls)
+  std::string tls_ca_pem;  // its content, read by LoadCredentials
 };
+
+// Reads --token-file and --tls-ca and checks the token; returns the exit code (0 = fine) after
+// printing what is wrong.
+int LoadCredentials(GlobalOptions* global);
 
 struct SubmitOptions {
   std::string scene_file;

@@ -17,6 +17,15 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_flag("--json", global.json, "print machine-readable JSON");
+  app.add_option("--token", global.token,
+                 "bearer token for a seepd started with a token (visible in ps: prefer "
+                 "SEEP_TOKEN or --token-file)")
+      ->envname("SEEP_TOKEN");
+  app.add_option("--token-file", global.token_file,
+                 "read the bearer token from this file (wins over --token and SEEP_TOKEN)");
+  app.add_flag("--tls", global.tls, "connect with TLS, trusting the system's root certificates");
+  app.add_option("--tls-ca", global.tls_ca,
+                 "connect with TLS, trusting this PEM CA (or self-signed) certificate");
 
   SubmitOptions submit;
   auto* submit_cmd = app.add_subcommand("submit", "queue a scene file (.textproto or .json)");
@@ -51,6 +60,7 @@ int main(int argc, char** argv) {
   auto* health_cmd = app.add_subcommand("health", "check that seepd is serving");
 
   CLI11_PARSE(app, argc, argv);
+  if (const int bad = LoadCredentials(&global); bad != 0) return bad;
   if (*submit_cmd) return Submit(global, submit);
   if (*watch_cmd) return Watch(global, job_id);
   if (*show_cmd) return Show(global, job_id);

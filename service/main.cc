@@ -11,14 +11,19 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <random>
+#include <sstream>
 #include <thread>
 
 #include "codec/scene_codec.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
+#include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "seep/core/log.h"
 #include "store/job_store.h"
@@ -42,7 +47,68 @@ struct Options {
   std::uint64_t checkpoint_every_steps = 0;
   double checkpoint_interval_s = 30.0;
   std::uint32_t checkpoints_kept = 3;
+  std::string token_file;  // else SEEP_TOKEN; neither: no token
+  std::string tls_cert;    // PEM; with tls_key, serve TLS
+  std::string tls_key;
+  int max_message_bytes = 64 << 20;
+  std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
 };
+
+// Loopback addresses and unix sockets are the only places where plaintext without a token is
+// the expected set-up; anything else gets a warning.
+bool IsLoopback(const std::string& listen) {
+  if (listen.rfind("unix:", 0) == 0) return true;
+  const auto colon = listen.rfind(':');
+  std::string host = colon == std::string::npos ? listen : listen.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+  }
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+// Whole-file read for PEM files; nullopt if the file cannot be opened.
+std::optional<std::string> ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
+// TLS credentials from --tls-cert/--tls-key, plaintext without them; nullptr after logging why.
+std::shared_ptr<grpc::ServerCredentials> MakeServerCredentials(const Options& options,
+                                                               spdlog::logger& logger) {
+  if (options.tls_cert.empty()) return grpc::InsecureServerCredentials();
+  const auto cert = ReadFile(options.tls_cert);
+  const auto key = ReadFile(options.tls_key);
+  if (!cert || cert->find("-----BEGIN") == std::string::npos) {
+    logger.critical("--tls-cert {}: cannot read a PEM certificate from it", options.tls_cert);
+    return nullptr;
+  }
+  if (!key || key->find("-----BEGIN") == std::string::npos) {
+    logger.critical("--tls-key {}: cannot read a PEM private key from it", options.tls_key);
+    return nullptr;
+  }
+  grpc::SslServerCredentialsOptions ssl;
+  ssl.pem_key_cert_pairs.push_back({*key, *cert});
+  return grpc::SslServerCredentials(ssl);
+}
+
+// The token from --token-file, else from SEEP_TOKEN; nullopt-in-Result means no token at all.
+seep::core::Result<std::optional<seep::service::BearerAuth>> LoadToken(const Options& options) {
+  if (!options.token_file.empty()) {
+    auto auth = seep::service::BearerAuth::FromFile(options.token_file);
+    if (!auth.ok()) return auth.status();
+    return std::optional<seep::service::BearerAuth>(std::move(*auth));
+  }
+  const char* env = std::getenv("SEEP_TOKEN");
+  if (env == nullptr || *env == '\0') return std::optional<seep::service::BearerAuth>();
+  auto auth = seep::service::BearerAuth::FromToken(env);
+  if (!auth.ok()) {
+    return seep::core::InvalidArgument("SEEP_TOKEN: " + auth.status().message());
+  }
+  return std::optional<seep::service::BearerAuth>(std::move(*auth));
+}
 
 std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
@@ -116,6 +182,27 @@ int Run(const Options& options) {
     logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
   }
 
+  auto token = LoadToken(options);
+  if (!token.ok()) {
+    logger->critical("{}", token.status().message());
+    return 2;
+  }
+  auto credentials = MakeServerCredentials(options, *logger);
+  if (!credentials) return 2;
+  const bool tls = !options.tls_cert.empty();
+  const bool authenticated = token->has_value();
+  if (!IsLoopback(options.listen)) {
+    if (!tls && !authenticated) {
+      logger->warn(
+          "listening on {} (not loopback) without TLS or a token: anyone who can reach it can "
+          "submit and cancel jobs (see --tls-cert/--tls-key, --token-file)",
+          options.listen);
+    } else if (!tls) {
+      logger->warn("listening on {} (not loopback) without TLS: the token travels in clear text",
+                   options.listen);
+    }
+  }
+
   seep::service::JobHub hub;
   seep::service::JobRunnerOptions runner_options;
   runner_options.workers = options.workers;
@@ -129,23 +216,31 @@ int Run(const Options& options) {
   seep::service::JobRunner runner(**store, hub, runner_options, logger);
   seep::service::SeepServiceImpl service(
       **store, hub, SEEP_BUILD_ID,
-      {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger);
+      {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger,
+      {authenticated ? &**token : nullptr, options.max_scene_bytes});
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port);
-  builder.SetMaxReceiveMessageSize(static_cast<int>(seep::service::kMaxSceneBytes + (1u << 20)));
+  builder.AddListeningPort(options.listen, credentials, &port);
+  // Larger requests are refused by gRPC itself with RESOURCE_EXHAUSTED before any handler runs.
+  builder.SetMaxReceiveMessageSize(options.max_message_bytes);
   builder.RegisterService(&service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
-    logger->critical("cannot listen on {} (--listen)", options.listen);
+    logger->critical("cannot listen on {} (--listen{})", options.listen,
+                     tls ? "; or --tls-cert/--tls-key do not form a valid pair" : "");
     return 1;
   }
   server->GetHealthCheckService()->SetServingStatus(true);
   logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s)", SEEP_BUILD_ID,
                options.listen, port, options.data_dir, options.workers);
+  logger->info("transport {}; {}; requests up to {} bytes, scenes up to {} bytes",
+               tls ? "TLS" : "plaintext",
+               authenticated ? "bearer token required for seep.v1.SeepService (health stays open)"
+                             : "no token required",
+               options.max_message_bytes, options.max_scene_bytes);
   if (!options.port_file.empty() && !WritePortFile(options.port_file, port)) {
     logger->critical("cannot write --port-file {}", options.port_file);
     return 1;
@@ -194,6 +289,22 @@ int main(int argc, char** argv) {
   app.add_option("--checkpoints-kept", options.checkpoints_kept,
                  "newest checkpoint files kept per job")
       ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--token-file", options.token_file,
+                 "require 'authorization: Bearer <token>' on every SeepService call, the token "
+                 "read from this file (mode 600); without it, SEEP_TOKEN is used if set");
+  auto* cert =
+      app.add_option("--tls-cert", options.tls_cert, "serve TLS with this PEM certificate");
+  auto* key = app.add_option("--tls-key", options.tls_key, "the PEM private key of --tls-cert");
+  cert->needs(key);
+  key->needs(cert);
+  app.add_option("--max-message-bytes", options.max_message_bytes,
+                 "largest request accepted (larger: RESOURCE_EXHAUSTED)")
+      ->check(CLI::Range(4096, std::numeric_limits<int>::max()))
+      ->capture_default_str();
+  app.add_option("--max-scene-bytes", options.max_scene_bytes,
+                 "largest serialized scene accepted (larger: INVALID_ARGUMENT, nothing stored)")
+      ->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 31))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {

@@ -31,9 +31,17 @@ std::string NewJobId() {
   return fmt::format("j-{:016x}", rng());
 }
 
-// Every handler body runs inside this: no exception escapes into gRPC.
+// Every handler body runs inside this: the caller is authenticated first (when seepd has a
+// token), and no exception escapes into gRPC.
 template <typename Fn>
-grpc::Status Guarded(const std::shared_ptr<spdlog::logger>& logger, const char* rpc, Fn&& fn) {
+grpc::Status Guarded(const std::shared_ptr<spdlog::logger>& logger, const ServiceGuards& guards,
+                     const grpc::ServerContext* ctx, const char* rpc, Fn&& fn) {
+  if (guards.auth != nullptr) {
+    if (grpc::Status denied = guards.auth->Check(*ctx); !denied.ok()) {
+      logger->warn("{} from {}: refused: {}", rpc, ctx->peer(), denied.error_message());
+      return denied;
+    }
+  }
   try {
     return fn();
   } catch (const std::exception& e) {
@@ -45,12 +53,14 @@ grpc::Status Guarded(const std::shared_ptr<spdlog::logger>& logger, const char* 
 }  // namespace
 
 SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id,
-                                 ServiceHooks hooks, std::shared_ptr<spdlog::logger> logger)
+                                 ServiceHooks hooks, std::shared_ptr<spdlog::logger> logger,
+                                 ServiceGuards guards)
     : store_(store),
       hub_(hub),
       build_id_(std::move(build_id)),
       hooks_(std::move(hooks)),
-      logger_(std::move(logger)) {}
+      logger_(std::move(logger)),
+      guards_(guards) {}
 
 core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
   SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Get(id));
@@ -60,16 +70,21 @@ core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
   return job;
 }
 
-grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* /*ctx*/,
-                                        const v1::SubmitJobRequest* req,
+grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
                                         v1::SubmitJobResponse* resp) {
-  return Guarded(logger_, "SubmitJob", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "SubmitJob", [&]() -> grpc::Status {
     if (!req->has_scene()) {
       return {grpc::StatusCode::INVALID_ARGUMENT, "scene: is required"};
     }
     if (req->request_id().size() > kMaxRequestIdLength) {
       return {grpc::StatusCode::INVALID_ARGUMENT,
               fmt::format("request_id: at most {} characters", kMaxRequestIdLength)};
+    }
+    // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
+    if (const std::size_t bytes = req->scene().ByteSizeLong(); bytes > guards_.max_scene_bytes) {
+      return {grpc::StatusCode::INVALID_ARGUMENT,
+              fmt::format("scene: {} bytes exceed the limit of {} (seepd --max-scene-bytes)", bytes,
+                          guards_.max_scene_bytes)};
     }
     // Validate fully before anything is stored: a bad scene leaves no trace.
     if (auto spec = SceneFromProto(req->scene()); !spec.ok()) {
@@ -81,11 +96,6 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* /*ctx*/,
     if (!req->request_id().empty()) job.request_id = req->request_id();
     if (!req->scene().SerializeToString(&job.scene)) {
       return {grpc::StatusCode::INTERNAL, "scene: could not serialize"};
-    }
-    if (job.scene.size() > kMaxSceneBytes) {
-      return {
-          grpc::StatusCode::INVALID_ARGUMENT,
-          fmt::format("scene: {} bytes exceed the limit of {}", job.scene.size(), kMaxSceneBytes)};
     }
     job.build_id = build_id_;
     job.created_at_ms = NowMs();
@@ -104,9 +114,9 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* /*ctx*/,
   });
 }
 
-grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* /*ctx*/, const v1::GetJobRequest* req,
+grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
                                      v1::GetJobResponse* resp) {
-  return Guarded(logger_, "GetJob", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "GetJob", [&]() -> grpc::Status {
     if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
     auto job = LoadJob(req->id());
     if (!job.ok()) return ToGrpcStatus(job.status());
@@ -115,9 +125,9 @@ grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* /*ctx*/, const v1::Get
   });
 }
 
-grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* /*ctx*/, const v1::ListJobsRequest* req,
+grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJobsRequest* req,
                                        v1::ListJobsResponse* resp) {
-  return Guarded(logger_, "ListJobs", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "ListJobs", [&]() -> grpc::Status {
     const std::uint32_t limit =
         req->page_size() == 0 ? kDefaultPageSize : std::min(req->page_size(), kMaxPageSize);
     std::optional<std::int64_t> cursor;
@@ -159,7 +169,7 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* /*ctx*/, const v1::L
 
 grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
                                        grpc::ServerWriter<v1::JobEvent>* writer) {
-  return Guarded(logger_, "WatchJob", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "WatchJob", [&]() -> grpc::Status {
     if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
     std::string last_sent;
     for (;;) {
@@ -182,10 +192,9 @@ grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::Watch
   });
 }
 
-grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* /*ctx*/,
-                                        const v1::CancelJobRequest* req,
+grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
                                         v1::CancelJobResponse* resp) {
-  return Guarded(logger_, "CancelJob", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "CancelJob", [&]() -> grpc::Status {
     if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
     auto job = store_.Cancel(req->id(), NowMs());
     if (!job.ok()) return ToGrpcStatus(job.status());
@@ -203,10 +212,9 @@ grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* /*ctx*/,
   });
 }
 
-grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* /*ctx*/,
-                                        const v1::ResumeJobRequest* req,
+grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* ctx, const v1::ResumeJobRequest* req,
                                         v1::ResumeJobResponse* resp) {
-  return Guarded(logger_, "ResumeJob", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "ResumeJob", [&]() -> grpc::Status {
     if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
     auto job = store_.Resume(req->id());
     if (!job.ok()) return ToGrpcStatus(job.status());
@@ -219,10 +227,9 @@ grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* /*ctx*/,
   });
 }
 
-grpc::Status SeepServiceImpl::GetResult(grpc::ServerContext* /*ctx*/,
-                                        const v1::GetResultRequest* req,
+grpc::Status SeepServiceImpl::GetResult(grpc::ServerContext* ctx, const v1::GetResultRequest* req,
                                         v1::GetResultResponse* resp) {
-  return Guarded(logger_, "GetResult", [&]() -> grpc::Status {
+  return Guarded(logger_, guards_, ctx, "GetResult", [&]() -> grpc::Status {
     if (req->id().empty()) return {grpc::StatusCode::INVALID_ARGUMENT, "id: is required"};
     auto job = store_.Get(req->id());
     if (!job.ok()) return ToGrpcStatus(job.status());

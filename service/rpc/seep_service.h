@@ -12,6 +12,7 @@
 #include <string>
 
 #include "jobs/job_hub.h"
+#include "rpc/bearer_auth.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "store/job_store.h"
 
@@ -23,10 +24,17 @@ struct ServiceHooks {
   std::function<void(const std::string&)> cancel_running;  // stop this RUNNING job now
 };
 
+// Who may call and how big a request may be. Defaults: no token, 32 MiB scenes.
+inline constexpr std::size_t kDefaultMaxSceneBytes = 32u << 20;
+struct ServiceGuards {
+  const BearerAuth* auth = nullptr;  // null: no token required (owned by the caller)
+  std::size_t max_scene_bytes = kDefaultMaxSceneBytes;
+};
+
 class SeepServiceImpl final : public v1::SeepService::Service {
  public:
   SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id, ServiceHooks hooks,
-                  std::shared_ptr<spdlog::logger> logger);
+                  std::shared_ptr<spdlog::logger> logger, ServiceGuards guards = {});
 
   grpc::Status SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
                          v1::SubmitJobResponse* resp) override;
@@ -52,6 +60,7 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   std::string build_id_;
   ServiceHooks hooks_;
   std::shared_ptr<spdlog::logger> logger_;
+  ServiceGuards guards_;
 };
 
 }  // namespace seep::service

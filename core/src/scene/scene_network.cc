@@ -165,6 +165,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
     data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
     data.pipe_length.push_back(d.pipe_length[k]);
     gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.pipe_contact[k])]);
+    net.pipe_contact.push_back(d.pipe_contact[k]);
   }
   // Every contact of a top-level outer loop drains into the outer reservoir. The reservoir's
   // radius is the conductance-weighted mean distance of the images of the interior centroids
@@ -178,6 +179,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
     data.pipe_domain_b.push_back(net.outer_node);
     data.pipe_length.push_back(d.boundary_pipe_length[k]);
     gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.boundary_pipe_contact[k])]);
+    net.pipe_contact.push_back(d.boundary_pipe_contact[k]);
     image_radius.push_back(
         std::hypot(2.0 * d.boundary_pipe_x[k] - d.centroid_x[host] - net.well_x_m,
                    2.0 * d.boundary_pipe_y[k] - d.centroid_y[host] - net.well_y_m));
@@ -268,17 +270,11 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     data.pipe_domain_b.push_back(b);
     data.pipe_length.push_back(length);
     gaps.push_back(net.contacts.gap[static_cast<std::size_t>(contact)]);
+    net.pipe_contact.push_back(contact);
   };
   for (std::size_t k = 0; k < d.num_pipes(); ++k) {
     add_pipe(d.pipe_domain_a[k], d.pipe_domain_b[k], d.pipe_contact[k], d.pipe_length[k]);
   }
-  struct EndPipe {
-    std::size_t pipe;
-    bool inlet;
-    double face;       // axis coordinate of the contact point
-    double reservoir;  // the interior centroid reflected through the contact point
-  };
-  std::vector<EndPipe> end_pipes;
   // Edge layer: particles whose extreme coordinate lies within one mean radius of the end.
   const double layer = net.mean_radius_m * (1.0 + 1e-9);
   for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
@@ -296,7 +292,8 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
     const double face = axis == FlowAxis::kX ? d.boundary_pipe_x[k] : d.boundary_pipe_y[k];
     const double centroid = axis == FlowAxis::kX ? d.centroid_x[host] : d.centroid_y[host];
-    end_pipes.push_back({data.pipe_length.size() - 1, at_inlet, face, 2.0 * face - centroid});
+    net.reservoir_pipes.push_back(
+        {data.pipe_length.size() - 1, at_inlet, face, 2.0 * face - centroid});
     ++(at_inlet ? net.inlet_pipes : net.outlet_pipes);
   }
   if (net.inlet_pipes == 0 || net.outlet_pipes == 0) {
@@ -313,12 +310,12 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   double reservoir_sum[2] = {0.0, 0.0};
   double weight_sum[2] = {0.0, 0.0};
   double count[2] = {0.0, 0.0};
-  for (const EndPipe& e : end_pipes) {
+  for (const ReservoirPipe& e : net.reservoir_pipes) {
     const int side = e.inlet ? 0 : 1;
     const double c = data.pipe_conductance[e.pipe];
-    face_sum[side] += e.face;
+    face_sum[side] += e.face_m;
     count[side] += 1.0;
-    reservoir_sum[side] += c * e.reservoir;
+    reservoir_sum[side] += c * e.image_m;
     weight_sum[side] += c;
   }
   if (!(weight_sum[0] > 0.0) || !(weight_sum[1] > 0.0)) {

@@ -44,11 +44,25 @@
 
 namespace seep::core {
 
+// A pipe of a linear boundary's flow network that joins an interior domain to the inlet or
+// outlet reservoir, with the Darcy geometry it contributes (see above).
+struct ReservoirPipe {
+  std::size_t pipe = 0;  // index into the FlowNetwork's pipes
+  bool inlet = false;    // else the outlet
+  double face_m = 0.0;   // axis coordinate of the hull contact point
+  double image_m = 0.0;  // axis coordinate of the interior centroid reflected through it
+};
+
 struct SceneNetwork {
   Packing packing;
   ContactList contacts;
   DomainNetwork domains;
   FlowNetwork flow;
+  // Per FlowNetwork pipe: the contact it crosses (interior pipes first, in DomainNetwork order,
+  // then the boundary pipes), so callers can refresh apertures from contact forces and gaps.
+  std::vector<std::int32_t> pipe_contact;
+  // Linear boundary: the pipes to the two reservoirs, in flow-pipe order.
+  std::vector<ReservoirPipe> reservoir_pipes;
   std::int32_t inlet_node = -1;
   std::int32_t outlet_node = -1;
   std::int64_t inlet_pipes = 0;

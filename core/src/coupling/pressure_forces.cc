@@ -1,0 +1,216 @@
+// Chord-rule pressure forces on the particles bounding each face, and the outside pressures of
+// the outer walks (see pressure_forces.h for the rule and its consequences).
+#include "seep/core/coupling/pressure_forces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "seep/core/coupling/contact_point.h"
+
+namespace seep::core {
+namespace {
+
+std::string SizeMessage(const char* field, std::size_t got, std::size_t expected, const char* per) {
+  return std::string("coupling.pressure_forces.") + field + ": has " + std::to_string(got) +
+         " entries, expected " + std::to_string(expected) + " (one per " + per + ")";
+}
+
+Status CheckIds(std::span<const std::int32_t> ids, std::size_t n, const char* field) {
+  // One pass over the loops before anything is written, so a bad network adds nothing.
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    if (ids[k] < 0 || static_cast<std::size_t>(ids[k]) >= n) {
+      return InvalidArgument(std::string("coupling.pressure_forces.network.") + field + "[" +
+                             std::to_string(k) + "]: particle id " + std::to_string(ids[k]) +
+                             " is not in [0, " + std::to_string(n) + ")");
+    }
+  }
+  return Status::Ok();
+}
+
+// Adds the chord forces of the loop entries [begin, end) of `particles_of_loop`; pressure(q)
+// gives the pressure on the arc at entry q.
+template <typename PressureAt>
+void AddLoopForces(const ParticleView& p, const std::int32_t* loop, std::size_t begin,
+                   std::size_t end, PressureAt pressure, double* fx, double* fy) {
+  if (end <= begin) return;
+  // Arm of loop[begin] towards its predecessor (the last entry, cyclically).
+  const ContactArms closing = ComputeContactArms(p, loop[end - 1], loop[begin]);
+  double prev_x = closing.bx;
+  double prev_y = closing.by;
+  for (std::size_t q = begin; q < end; ++q) {
+    const std::int32_t k = loop[q];
+    const std::int32_t next = loop[q + 1 < end ? q + 1 : begin];
+    const ContactArms arms = ComputeContactArms(p, k, next);
+    const double tx = arms.ax - prev_x;
+    const double ty = arms.ay - prev_y;
+    const double pk = pressure(q);
+    fx[k] += pk * ty;
+    fy[k] -= pk * tx;
+    prev_x = arms.bx;
+    prev_y = arms.by;
+  }
+}
+
+}  // namespace
+
+Status AddPressureForces(const ParticleView& particles, const DomainNetwork& network,
+                         std::span<const double> domain_pressure,
+                         std::span<const double> outer_arc_pressure, std::span<double> fx,
+                         std::span<double> fy) {
+  SEEP_RETURN_IF_ERROR(CheckParticleView(particles, "coupling.pressure_forces.particles"));
+  const std::size_t n = particles.size();
+  const std::size_t num_domains = network.num_domains();
+  if (fx.size() != n) return InvalidArgument(SizeMessage("fx", fx.size(), n, "particle"));
+  if (fy.size() != n) return InvalidArgument(SizeMessage("fy", fy.size(), n, "particle"));
+  if (domain_pressure.size() != num_domains) {
+    return InvalidArgument(
+        SizeMessage("domain_pressure", domain_pressure.size(), num_domains, "domain"));
+  }
+  if (!outer_arc_pressure.empty() && outer_arc_pressure.size() != network.outer_particles.size()) {
+    return InvalidArgument(SizeMessage("outer_arc_pressure", outer_arc_pressure.size(),
+                                       network.outer_particles.size(), "outer-loop entry"));
+  }
+  if (network.loop_offsets.size() != num_domains + 1 ||
+      static_cast<std::size_t>(network.loop_offsets.back()) != network.loop_particles.size() ||
+      network.outer_offsets.size() != network.num_outer_faces() + 1 ||
+      static_cast<std::size_t>(network.outer_offsets.back()) != network.outer_particles.size()) {
+    return InvalidArgument(
+        "coupling.pressure_forces.network: loop offsets do not match the loop arrays");
+  }
+  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, n, "loop_particles"));
+  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, n, "outer_particles"));
+
+  const std::int32_t* loops = network.loop_particles.data();
+  double* out_x = fx.data();
+  double* out_y = fy.data();
+  for (std::size_t d = 0; d < num_domains; ++d) {
+    const double pressure = domain_pressure[d];
+    AddLoopForces(
+        particles, loops, static_cast<std::size_t>(network.loop_offsets[d]),
+        static_cast<std::size_t>(network.loop_offsets[d + 1]),
+        [pressure](std::size_t) { return pressure; }, out_x, out_y);
+  }
+  if (outer_arc_pressure.empty()) return Status::Ok();
+  const std::int32_t* outer = network.outer_particles.data();
+  const double* arc = outer_arc_pressure.data();
+  for (std::size_t k = 0; k < network.num_outer_faces(); ++k) {
+    AddLoopForces(
+        particles, outer, static_cast<std::size_t>(network.outer_offsets[k]),
+        static_cast<std::size_t>(network.outer_offsets[k + 1]),
+        [arc](std::size_t q) { return arc[q]; }, out_x, out_y);
+  }
+  return Status::Ok();
+}
+
+Status OuterArcPressures::Compute(const DomainNetwork& network,
+                                  std::span<const double> domain_pressure,
+                                  std::span<const double> boundary_pipe_pressure,
+                                  std::vector<double>* arc_pressure) {
+  const std::size_t num_domains = network.num_domains();
+  const std::size_t num_boundary = network.num_boundary_pipes();
+  if (domain_pressure.size() != num_domains) {
+    return InvalidArgument(
+        SizeMessage("domain_pressure", domain_pressure.size(), num_domains, "domain"));
+  }
+  if (boundary_pipe_pressure.size() != num_boundary) {
+    return InvalidArgument(SizeMessage("boundary_pipe_pressure", boundary_pipe_pressure.size(),
+                                       num_boundary, "boundary pipe"));
+  }
+  const std::size_t entries = network.outer_particles.size();
+  if (network.outer_contacts.size() != entries ||
+      network.outer_offsets.size() != network.num_outer_faces() + 1 ||
+      network.outer_host_domain.size() != network.num_outer_faces()) {
+    return InvalidArgument("coupling.pressure_forces.network: outer-loop arrays do not match");
+  }
+  // Contact -> boundary pipe lookup, sized by the largest contact id on an outer walk.
+  std::int32_t max_contact = -1;
+  for (const std::int32_t c : network.outer_contacts) max_contact = std::max(max_contact, c);
+  for (const std::int32_t c : network.boundary_pipe_contact) max_contact = std::max(max_contact, c);
+  if (network.boundary_pipe_domain.size() != num_boundary) {
+    return InvalidArgument("coupling.pressure_forces.network: boundary-pipe arrays differ in size");
+  }
+  for (std::size_t b = 0; b < num_boundary; ++b) {
+    const std::int32_t d = network.boundary_pipe_domain[b];
+    if (network.boundary_pipe_contact[b] < 0 || d < 0 ||
+        static_cast<std::size_t>(d) >= num_domains) {
+      return InvalidArgument("coupling.pressure_forces.network.boundary_pipe[" + std::to_string(b) +
+                             "]: contact or domain id out of range");
+    }
+  }
+  const std::size_t lookup_size = static_cast<std::size_t>(max_contact + 1);
+  if (boundary_pipe_of_contact_.size() < lookup_size) {
+    boundary_pipe_of_contact_.resize(lookup_size, -1);
+  }
+  for (std::size_t b = 0; b < num_boundary; ++b) {
+    boundary_pipe_of_contact_[static_cast<std::size_t>(network.boundary_pipe_contact[b])] =
+        static_cast<std::int32_t>(b);
+  }
+
+  arc_pressure->resize(entries);
+  double* out = arc_pressure->data();
+  const std::int32_t* lookup = boundary_pipe_of_contact_.data();
+  for (std::size_t k = 0; k < network.num_outer_faces(); ++k) {
+    const std::size_t begin = static_cast<std::size_t>(network.outer_offsets[k]);
+    const std::size_t end = static_cast<std::size_t>(network.outer_offsets[k + 1]);
+    const std::int32_t host = network.outer_host_domain[k];
+    if (host >= 0) {
+      std::fill(out + begin, out + end, domain_pressure[static_cast<std::size_t>(host)]);
+      continue;
+    }
+    // What the outside of each hull contact holds: a reservoir, a dead-end pocket, or nothing.
+    auto contact_value = [&](std::int32_t contact, double* reservoir, double* pocket) {
+      const std::int32_t b = contact >= 0 ? lookup[contact] : -1;
+      if (b < 0) return 0;
+      const double value = boundary_pipe_pressure[static_cast<std::size_t>(b)];
+      if (std::isfinite(value)) {
+        *reservoir += value;
+        return 1;
+      }
+      *pocket += domain_pressure[static_cast<std::size_t>(network.boundary_pipe_domain[b])];
+      return 2;
+    };
+    std::size_t first_known = end;
+    for (std::size_t q = begin; q < end; ++q) {
+      const std::int32_t before = network.outer_contacts[q > begin ? q - 1 : end - 1];
+      const std::int32_t after = network.outer_contacts[q];
+      double reservoir = 0.0, pocket = 0.0;
+      int reservoirs = 0, pockets = 0;
+      for (const std::int32_t c : {before, after}) {
+        const int kind = contact_value(c, &reservoir, &pocket);
+        reservoirs += kind == 1;
+        pockets += kind == 2;
+      }
+      if (reservoirs > 0) {
+        out[q] = reservoir / reservoirs;
+      } else if (pockets > 0) {
+        out[q] = pocket / pockets;
+      } else {
+        out[q] = std::nan("");
+        continue;
+      }
+      if (first_known == end) first_known = q;
+    }
+    // Arcs between two bridges carry the value before them along the walk.
+    if (first_known == end) {
+      std::fill(out + begin, out + end, 0.0);
+      continue;
+    }
+    double carried = out[first_known];
+    for (std::size_t step = 1; step < end - begin; ++step) {
+      std::size_t q = first_known + step;
+      if (q >= end) q -= end - begin;
+      if (std::isnan(out[q])) {
+        out[q] = carried;
+      } else {
+        carried = out[q];
+      }
+    }
+  }
+  for (std::size_t b = 0; b < num_boundary; ++b) {
+    boundary_pipe_of_contact_[static_cast<std::size_t>(network.boundary_pipe_contact[b])] = -1;
+  }
+  return Status::Ok();
+}
+
+}  // namespace seep::core

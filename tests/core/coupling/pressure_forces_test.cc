@@ -1,0 +1,306 @@
+// V14 (pressure forces, physics.md §5) and the major-arc case of the chord rule (§2.5).
+#include "seep/core/coupling/pressure_forces.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "coupling_test_util.h"
+#include "seep/core/coupling/contact_point.h"
+
+namespace seep::core {
+namespace {
+
+using coupling_test::Detect;
+using coupling_test::Detected;
+
+struct Forces {
+  std::vector<double> fx, fy;
+};
+
+Forces UniformForces(const Detected& d, double pressure, bool with_outside) {
+  Forces f{std::vector<double>(d.packing.size(), 0.0), std::vector<double>(d.packing.size(), 0.0)};
+  const std::vector<double> domain_pressure(d.domains.num_domains(), pressure);
+  std::vector<double> arcs;
+  if (with_outside) {
+    const std::vector<double> reservoir(d.domains.num_boundary_pipes(), pressure);
+    OuterArcPressures outer;
+    EXPECT_TRUE(outer.Compute(d.domains, domain_pressure, reservoir, &arcs).ok());
+  }
+  const Status s =
+      AddPressureForces(ViewOf(d.packing), d.domains, domain_pressure, arcs, f.fx, f.fy);
+  EXPECT_TRUE(s.ok()) << s.ToString();
+  return f;
+}
+
+// Particles that bound at least one face (domain or outer walk); rattlers bound none.
+std::vector<char> OnSomeLoop(const Detected& d) {
+  std::vector<char> on(d.packing.size(), 0);
+  for (const std::int32_t p : d.domains.loop_particles) on[static_cast<std::size_t>(p)] = 1;
+  for (const std::int32_t p : d.domains.outer_particles) on[static_cast<std::size_t>(p)] = 1;
+  return on;
+}
+
+std::vector<char> OnOuterLoop(const Detected& d) {
+  std::vector<char> on(d.packing.size(), 0);
+  for (const std::int32_t p : d.domains.outer_particles) on[static_cast<std::size_t>(p)] = 1;
+  return on;
+}
+
+// V14 on one packing. The force on a particle is a sum of chords (length ~R) times P whose
+// arms are bit-identical on both sides of every contact, so the chords around a particle
+// telescope: what is left is the round-off of about ten additions of P*R-sized terms,
+// ~1e-15 P*R. 1e-12 is physics.md's tolerance.
+void ExpectUniformPressureBalances(const Detected& d, const char* name,
+                                   std::size_t min_domains = 10) {
+  SCOPED_TRACE(name);
+  constexpr double kPressure = 3.7e6;
+  double r_max = 0.0;
+  for (double r : d.packing.radius) r_max = std::max(r_max, r);
+  const double scale = kPressure * r_max;
+  ASSERT_GE(d.domains.num_domains(), min_domains);
+
+  // Domains only: every particle not on an outer walk is surrounded by domains.
+  const Forces inner = UniformForces(d, kPressure, /*with_outside=*/false);
+  const std::vector<char> outer = OnOuterLoop(d);
+  std::size_t surrounded = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < d.packing.size(); ++i) {
+    if (outer[i]) continue;
+    ++surrounded;
+    worst = std::max(worst, std::hypot(inner.fx[i], inner.fy[i]) / scale);
+  }
+  if (min_domains >= 10) {
+    EXPECT_GT(surrounded, 10u);
+  }
+  EXPECT_LT(worst, 1e-12) << "largest |F| / (P R) on a particle surrounded by domains";
+
+  // With the same pressure outside, every particle is wetted all round.
+  const Forces all = UniformForces(d, kPressure, /*with_outside=*/true);
+  const std::vector<char> on_loop = OnSomeLoop(d);
+  double worst_all = 0.0;
+  double sum_x = 0.0, sum_y = 0.0;
+  for (std::size_t i = 0; i < d.packing.size(); ++i) {
+    if (!on_loop[i]) {
+      EXPECT_EQ(all.fx[i], 0.0);  // rattlers bound no face
+      EXPECT_EQ(all.fy[i], 0.0);
+    }
+    worst_all = std::max(worst_all, std::hypot(all.fx[i], all.fy[i]) / scale);
+    sum_x += all.fx[i];
+    sum_y += all.fy[i];
+  }
+  EXPECT_LT(worst_all, 1e-12) << "largest |F| / (P R) with the outside at the same pressure";
+  // The boundary integral of a uniform pressure over a closed boundary is zero.
+  EXPECT_LT(std::hypot(sum_x, sum_y) / scale, 1e-12 * static_cast<double>(d.packing.size()));
+
+  // Per domain, sum_k F_k = 0: the chords of one loop close. The sum is over ~4-8 chords of
+  // length ~R, so its round-off is ~1e-15 P R.
+  const std::size_t n = d.packing.size();
+  std::vector<double> fx(n), fy(n);
+  std::vector<double> one(d.domains.num_domains(), 0.0);
+  double worst_domain = 0.0;
+  for (std::size_t k = 0; k < d.domains.num_domains(); ++k) {
+    std::fill(fx.begin(), fx.end(), 0.0);
+    std::fill(fy.begin(), fy.end(), 0.0);
+    one[k] = kPressure;
+    ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, one, {}, fx, fy).ok());
+    one[k] = 0.0;
+    double sx = 0.0, sy = 0.0;
+    for (std::int32_t q = d.domains.loop_offsets[k]; q < d.domains.loop_offsets[k + 1]; ++q) {
+      const auto p =
+          static_cast<std::size_t>(d.domains.loop_particles[static_cast<std::size_t>(q)]);
+      sx += fx[p];
+      sy += fy[p];
+      fx[p] = fy[p] = 0.0;  // a particle visited twice is counted once
+    }
+    worst_domain = std::max(worst_domain, std::hypot(sx, sy) / scale);
+  }
+  EXPECT_LT(worst_domain, 1e-12) << "largest |sum_k F_k| / (P R) over one domain";
+}
+
+TEST(PressureForces, V14_UniformPressureSquareLattice) {
+  const Detected d = Detect(coupling_test::Square(9, 7, 1e-3));
+  ExpectUniformPressureBalances(d, "square 9x7");
+}
+
+TEST(PressureForces, V14_UniformPressureHexLattice) {
+  const Detected d = Detect(coupling_test::Hex(10, 8, 1e-3));
+  ExpectUniformPressureBalances(d, "hex 10x8");
+}
+
+TEST(PressureForces, V14_UniformPressureRandomPacking) {
+  // Far from the origin, to show the arms keep the result independent of absolute position.
+  Packing p = coupling_test::Random(7);
+  for (double& x : p.x) x += 1e3;
+  const Detected d = Detect(std::move(p), 1e-2);
+  EXPECT_GT(d.domains.num_pruned_particles, 0) << "the case is meant to include rattlers";
+  ExpectUniformPressureBalances(d, "random 300");
+}
+
+// An island (triangle inside a ring) is wetted by its host's fluid: with every pressure equal
+// nothing moves, and with the host alone pressurised the island's disks are squeezed towards
+// its centre (each by P times its 300-degree arc's chord, R).
+TEST(PressureForces, V14_IslandIsWettedByItsHost) {
+  constexpr double kR = 1.0;
+  constexpr int kRing = 16;
+  Packing p;
+  coupling_test::AddRing(&p, kRing, kR);
+  coupling_test::AddTriangle(&p, 0.0, 0.0, kR, 0.3);
+  const Detected d = Detect(std::move(p));
+  ASSERT_EQ(d.domains.num_domains(), 2u);
+  ExpectUniformPressureBalances(d, "ring with island", /*min_domains=*/2);
+
+  const std::size_t host = d.domains.apparent_volume[0] > d.domains.apparent_volume[1] ? 0 : 1;
+  std::vector<double> pressure(2, 0.0);
+  pressure[host] = 1e3;
+  const std::vector<double> outside(d.domains.num_boundary_pipes(), 0.0);
+  std::vector<double> arcs;
+  OuterArcPressures outer;
+  ASSERT_TRUE(outer.Compute(d.domains, pressure, outside, &arcs).ok());
+  std::vector<double> fx(d.packing.size(), 0.0), fy(d.packing.size(), 0.0);
+  ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, pressure, arcs, fx, fy).ok());
+  for (std::size_t i = kRing; i < d.packing.size(); ++i) {
+    const double inward = -(fx[i] * d.packing.x[i] + fy[i] * d.packing.y[i]) /
+                          std::hypot(d.packing.x[i], d.packing.y[i]);
+    EXPECT_NEAR(inward, 1e3 * kR, 1e-12 * 1e3 * kR) << "island disk " << i;
+    EXPECT_NEAR(std::hypot(fx[i], fy[i]), 1e3 * kR, 1e-12 * 1e3 * kR) << "island disk " << i;
+  }
+}
+
+// On a square lattice each particle bounds four quarter-cell domains; the chord facing domain
+// (+R, +R) runs from (R, 0) to (0, R) and the force points towards the centre: -P R (1, 1).
+TEST(PressureForces, SquareCellChordForce) {
+  constexpr double kR = 0.5;
+  const Detected d = Detect(coupling_test::Square(2, 2, kR));
+  ASSERT_EQ(d.domains.num_domains(), 1u);
+  std::vector<double> fx(4, 0.0), fy(4, 0.0);
+  const double p[] = {10.0};
+  ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, p, {}, fx, fy).ok());
+  // Particle 0 is at (R, R), the cell centre at (2R, 2R): pushed towards -x, -y.
+  EXPECT_NEAR(fx[0], -10.0 * kR, 1e-15);
+  EXPECT_NEAR(fy[0], -10.0 * kR, 1e-15);
+  EXPECT_NEAR(fx[3], 10.0 * kR, 1e-15);
+  EXPECT_NEAR(fy[3], 10.0 * kR, 1e-15);
+}
+
+// A ring of 12 touching disks encloses a large void; a 13th disk touches ring disks 0 and 1
+// (an equilateral triangle) and protrudes into the void. The void's loop wraps around it: its
+// exposed arc spans 300 degrees (a major arc). The chord rule must give the exact arc integral
+// -P R int n dtheta over that arc: magnitude P * (distance between its contact points) = P R,
+// pointing from its centre towards the chord, i.e. away from the void, through the centre.
+TEST(PressureForces, MajorArcPushesParticleAwayFromVoid) {
+  constexpr double kR = 1.0;
+  constexpr int kRing = 12;
+  const double pi = std::numbers::pi;
+  const double ring_radius = kR / std::sin(pi / kRing);
+  Packing p;
+  for (int k = 0; k < kRing; ++k) {
+    const double a = 2.0 * pi * k / kRing;
+    p.Add(ring_radius * std::cos(a), ring_radius * std::sin(a), kR);
+  }
+  const double mid = pi / kRing;  // direction of the midpoint of ring disks 0 and 1
+  const double inner = ring_radius * std::cos(mid) - std::sqrt(3.0) * kR;
+  p.Add(inner * std::cos(mid), inner * std::sin(mid), kR);
+  const Detected d = Detect(std::move(p));
+  ASSERT_EQ(d.domains.num_domains(), 2u);  // the void and the triangle
+  const std::size_t protruding = kRing;
+  const std::size_t void_domain =
+      d.domains.apparent_volume[0] > d.domains.apparent_volume[1] ? 0 : 1;
+
+  constexpr double kVoidPressure = 2.5e5;
+  std::vector<double> pressure(2, 0.0);
+  pressure[void_domain] = kVoidPressure;
+  std::vector<double> fx(d.packing.size(), 0.0), fy(d.packing.size(), 0.0);
+  ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, pressure, {}, fx, fy).ok());
+
+  // Independent reference: midpoint quadrature of -P R (cos t, sin t) over the exposed arc, which
+  // runs counter-clockwise from the contact with disk 1 round the void side to the contact with
+  // disk 0 (as seen from the protruding disk's centre).
+  const double cx = d.packing.x[protruding], cy = d.packing.y[protruding];
+  auto angle_to = [&](std::size_t other) {
+    return std::atan2(d.packing.y[other] - cy, d.packing.x[other] - cx);
+  };
+  const double from = angle_to(1);
+  double to = angle_to(0);
+  while (to < from) to += 2.0 * pi;
+  EXPECT_NEAR((to - from) * 180.0 / pi, 300.0, 1e-9) << "the exposed arc is a major arc";
+  constexpr int kSteps = 200000;
+  double qx = 0.0, qy = 0.0;
+  for (int s = 0; s < kSteps; ++s) {
+    const double t = from + (to - from) * (s + 0.5) / kSteps;
+    qx -= kVoidPressure * kR * std::cos(t) * (to - from) / kSteps;
+    qy -= kVoidPressure * kR * std::sin(t) * (to - from) / kSteps;
+  }
+  // Midpoint rule error ~ (h^2/24) |F| with h = 5.2/2e5: ~3e-11 relative.
+  EXPECT_NEAR(fx[protruding], qx, 1e-9 * kVoidPressure * kR);
+  EXPECT_NEAR(fy[protruding], qy, 1e-9 * kVoidPressure * kR);
+  EXPECT_NEAR(std::hypot(fx[protruding], fy[protruding]), kVoidPressure * kR,
+              1e-12 * kVoidPressure * kR);
+  // Away from the void: outwards from the ring centre, along the radius through the particle.
+  const double radial = (fx[protruding] * cx + fy[protruding] * cy) / std::hypot(cx, cy);
+  EXPECT_NEAR(radial, kVoidPressure * kR, 1e-12 * kVoidPressure * kR);
+}
+
+// The contact point: mid-gap when apart, on the radical line when overlapping, r_lo from centre
+// lo when touching (both rules meet there). Radii 1 and 2 along x.
+TEST(PressureForces, ContactPointRules) {
+  // Touching: d = 3, the point is 1 from the small disk.
+  EXPECT_DOUBLE_EQ(ContactFraction(1.0, 2.0, 9.0) * 3.0, 1.0);
+  // Gap 0.4 (d = 3.4): halfway across it, 1.2 from the small disk.
+  EXPECT_NEAR(ContactFraction(1.0, 2.0, 3.4 * 3.4) * 3.4, 1.2, 1e-15);
+  // Overlap (d = 2.5): radical line at (d^2 + 1 - 4) / (2 d) = 0.65 from the small disk.
+  EXPECT_NEAR(ContactFraction(1.0, 2.0, 2.5 * 2.5) * 2.5, 0.65, 1e-15);
+  // Continuity through first contact: 1e-9 either side moves the point by ~1e-9.
+  const double below = ContactFraction(1.0, 2.0, (3.0 - 1e-9) * (3.0 - 1e-9)) * (3.0 - 1e-9);
+  const double above = ContactFraction(1.0, 2.0, (3.0 + 1e-9) * (3.0 + 1e-9)) * (3.0 + 1e-9);
+  EXPECT_NEAR(below, 1.0, 2e-9);
+  EXPECT_NEAR(above, 1.0, 2e-9);
+  // The arms of one pair are the same whichever disk is named first.
+  Packing p;
+  p.Add(0.0, 0.0, 1.0);
+  p.Add(2.5, 0.3, 2.0);
+  const ContactArms ab = ComputeContactArms(ViewOf(p), 0, 1);
+  const ContactArms ba = ComputeContactArms(ViewOf(p), 1, 0);
+  EXPECT_EQ(ab.ax, ba.bx);
+  EXPECT_EQ(ab.ay, ba.by);
+  EXPECT_EQ(ab.bx, ba.ax);
+  EXPECT_EQ(ab.by, ba.ay);
+  EXPECT_NEAR(ab.ax - ab.bx, 2.5, 1e-15);  // both arms end at the same point
+  EXPECT_NEAR(ab.ay - ab.by, 0.3, 1e-15);
+}
+
+TEST(PressureForces, RejectsBadSizesWithoutWriting) {
+  const Detected d = Detect(coupling_test::Square(3, 3, 1.0));
+  std::vector<double> fx(d.packing.size(), 0.0), fy(d.packing.size(), 0.0);
+  const std::vector<double> too_few(d.domains.num_domains() - 1, 1.0);
+  const Status s = AddPressureForces(ViewOf(d.packing), d.domains, too_few, {}, fx, fy);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("coupling.pressure_forces.domain_pressure"), std::string::npos)
+      << s.message();
+  std::vector<double> short_fx(2, 0.0);
+  const std::vector<double> ok(d.domains.num_domains(), 1.0);
+  EXPECT_EQ(AddPressureForces(ViewOf(d.packing), d.domains, ok, {}, short_fx, fy).code(),
+            StatusCode::kInvalidArgument);
+  for (double f : fx) EXPECT_EQ(f, 0.0);
+}
+
+TEST(PressureForces, DeterministicBitForBit) {
+  const Detected d = Detect(coupling_test::Random(11), 1e-2);
+  std::vector<double> pressure(d.domains.num_domains());
+  for (std::size_t k = 0; k < pressure.size(); ++k)
+    pressure[k] = 1e5 + 37.0 * static_cast<double>(k % 17);
+  std::vector<double> a(d.packing.size(), 0.0), b(d.packing.size(), 0.0);
+  std::vector<double> c(d.packing.size(), 0.0), e(d.packing.size(), 0.0);
+  ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, pressure, {}, a, b).ok());
+  ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, pressure, {}, c, e).ok());
+  EXPECT_EQ(a, c);
+  EXPECT_EQ(b, e);
+}
+
+}  // namespace
+}  // namespace seep::core
