@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 
+#include "call_support.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
 #include "job_printer.h"
@@ -246,6 +247,19 @@ int List(const GlobalOptions& global, const ListOptions& options) {
     }
     states.push_back(state);
   }
+  std::vector<v1::JobKind> kinds;
+  for (const std::string& name : options.kinds) {
+    std::string upper = "JOB_KIND_";
+    for (const char c : name)
+      upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    v1::JobKind kind = v1::JOB_KIND_UNSPECIFIED;
+    if (!v1::JobKind_Parse(upper, &kind) || kind == v1::JOB_KIND_UNSPECIFIED) {
+      std::fprintf(stderr, "seep: list: --kind %s: expected simulation or calibration\n",
+                   name.c_str());
+      return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+    }
+    kinds.push_back(kind);
+  }
   auto stub = v1::SeepService::NewStub(Connect(global));
   v1::ListJobsResponse all;
   std::string token;
@@ -257,6 +271,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
     request.set_page_token(token);
     for (const v1::JobState state : states) request.add_states(state);
     request.set_name_contains(options.name_contains);
+    for (const v1::JobKind kind : kinds) request.add_kinds(kind);
     v1::ListJobsResponse page;
     if (auto status = stub->ListJobs(&ctx, request, &page); !status.ok()) {
       return ReportRpcError(global, "list", status);
@@ -366,5 +381,16 @@ int Health(const GlobalOptions& global) {
              ? 0
              : static_cast<int>(grpc::StatusCode::UNAVAILABLE);
 }
+
+// The helpers above, for the other command files (call_support.h).
+std::shared_ptr<grpc::Channel> OpenChannel(const GlobalOptions& global) { return Connect(global); }
+void PrepareUnaryCall(const GlobalOptions& global, grpc::ClientContext* ctx) {
+  PrepareCall(global, ctx);
+}
+int ReportCallError(const GlobalOptions& global, const char* what, const grpc::Status& status) {
+  return ReportRpcError(global, what, status);
+}
+std::string MessageToJson(const google::protobuf::Message& message) { return ToJson(message); }
+std::string NewSubmitRequestId() { return NewRequestId(); }
 
 }  // namespace seep::client

@@ -40,6 +40,7 @@ struct ListOptions {
   unsigned limit = 50;
   std::vector<std::string> states;  // queued, running, succeeded, failed, cancelled (any case)
   std::string name_contains;
+  std::vector<std::string> kinds;  // simulation, calibration (any case)
 };
 
 int List(const GlobalOptions& global, const ListOptions& options);

@@ -25,10 +25,16 @@ std::string StateName(v1::JobState state) {
 std::string FormatJob(const v1::Job& job) {
   std::string out = fmt::format("job       {}\nname      {}\nstate     {}\n", job.id(), job.name(),
                                 StateName(job.state()));
+  if (job.kind() == v1::JOB_KIND_CALIBRATION) out += "kind      CALIBRATION\n";
   out += fmt::format("created   {}\nstarted   {}\nfinished  {}\n", FormatTime(job.created_at()),
                      FormatTime(job.started_at()), FormatTime(job.finished_at()));
-  out += fmt::format("progress  step {}, t = {:.6g} s, {:.1f}%\n", job.progress().step(),
-                     job.progress().time_s(), 100.0 * job.progress().fraction_done());
+  if (job.kind() == v1::JOB_KIND_CALIBRATION) {
+    out += fmt::format("progress  {} permeameter solves, {:.1f}%\n", job.progress().step(),
+                       100.0 * job.progress().fraction_done());
+  } else {
+    out += fmt::format("progress  step {}, t = {:.6g} s, {:.1f}%\n", job.progress().step(),
+                       job.progress().time_s(), 100.0 * job.progress().fraction_done());
+  }
   out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
@@ -66,9 +72,21 @@ std::string FormatJobRow(const v1::Job& job) {
 
 std::string FormatProgress(const v1::Job& job) {
   const auto& p = job.progress();
+  if (job.kind() == v1::JOB_KIND_CALIBRATION) {
+    // A calibration has no simulated time: its step counts the permeameter solves.
+    return fmt::format("{:<9} solves {:>4}  {:5.1f}%", StateName(job.state()), p.step(),
+                       100.0 * p.fraction_done());
+  }
   std::string line = fmt::format("{:<9} step {:>9}  t = {:<11.5g} {:5.1f}%", StateName(job.state()),
                                  p.step(), p.time_s(), 100.0 * p.fraction_done());
   if (p.eta_s() > 0.0) line += fmt::format("  ETA {:.1f} s", p.eta_s());
+  // Key figures of the newest sample, when the server sends them (a running simulation).
+  for (const char* key : {"inflow_m2_per_s", "outflow_m2_per_s", "well_flow_rate_m2_per_s",
+                          "max_pressure_pa", "mass_balance_error"}) {
+    if (const auto it = p.latest().find(key); it != p.latest().end()) {
+      line += fmt::format("  {} {:.4g}", key, it->second);
+    }
+  }
   return line;
 }
 

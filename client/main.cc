@@ -2,6 +2,7 @@
 // physics.
 #include <CLI/CLI.hpp>
 
+#include "calibration_commands.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -50,6 +51,8 @@ int main(int argc, char** argv) {
                        "only jobs in this state (queued, running, succeeded, failed, cancelled); "
                        "repeat for several");
   list_cmd->add_option("--name", list.name_contains, "only jobs whose name contains this");
+  list_cmd->add_option("--kind", list.kinds,
+                       "only jobs of this kind (simulation, calibration); repeat for several");
   auto* cancel_cmd = app.add_subcommand("cancel", "cancel a queued or running job");
   cancel_cmd->add_option("job", job_id, "job id")->required();
   auto* resume_cmd =
@@ -58,6 +61,51 @@ int main(int argc, char** argv) {
   auto* result_cmd = app.add_subcommand("result", "show the metrics of a succeeded job");
   result_cmd->add_option("job", job_id, "job id")->required();
   auto* health_cmd = app.add_subcommand("health", "check that seepd is serving");
+
+  CalibrateOptions calibrate;
+  auto* calibrate_cmd = app.add_subcommand(
+      "calibrate", "queue a residual-aperture calibration (a seep.v1.Calibration file)");
+  calibrate_cmd->add_option("file", calibrate.file, "calibration file (.textproto or .json)")
+      ->required();
+  calibrate_cmd->add_option("--tag", calibrate.tags, "a tag stored with the records; repeatable");
+  calibrate_cmd->add_option("--name", calibrate.name, "job name (default: the file's name)");
+  calibrate_cmd->add_option("--from-job", calibrate.from_job,
+                            "take the packing of this earlier job (overrides from_job_id)");
+  calibrate_cmd->add_option("--request-id", calibrate.request_id,
+                            "idempotency key: submitting it again returns the same job");
+  calibrate_cmd->add_flag("--watch", calibrate.watch, "follow the job until it finishes");
+
+  CalibrationListOptions calibrations;
+  auto* calibrations_cmd =
+      app.add_subcommand("calibrations", "list stored calibration records, newest first");
+  calibrations_cmd->add_option("--k-min", calibrations.k_min, "least target permeability, m^2");
+  calibrations_cmd->add_option("--k-max", calibrations.k_max, "largest target permeability, m^2");
+  calibrations_cmd->add_option("--porosity-min", calibrations.porosity_min, "least 2D porosity");
+  calibrations_cmd->add_option("--porosity-max", calibrations.porosity_max, "largest 2D porosity");
+  calibrations_cmd->add_option("--radius-min", calibrations.radius_min, "least mean radius, m");
+  calibrations_cmd->add_option("--radius-max", calibrations.radius_max, "largest mean radius, m");
+  calibrations_cmd->add_option("--tag", calibrations.tags,
+                               "only records carrying this tag; repeat: all must be present");
+  calibrations_cmd->add_option("--after", calibrations.after,
+                               "created at or after this RFC 3339 time");
+  calibrations_cmd->add_option("--before", calibrations.before, "created before this time");
+  calibrations_cmd->add_option("--job", calibrations.job, "only this job's records");
+  calibrations_cmd->add_option("--limit", calibrations.limit, "at most this many records")
+      ->check(CLI::Range(1u, 100000u))
+      ->capture_default_str();
+  calibrations_cmd->add_flag("--csv", calibrations.csv, "print CSV (every field, full precision)");
+  CalibrationLookupOptions lookup;
+  auto* lookup_cmd = calibrations_cmd->add_subcommand(
+      "lookup", "the stored calibrations nearest to a packing and k, and an interpolated a0");
+  lookup_cmd->add_option("--porosity", lookup.porosity, "2D porosity of the packing")->required();
+  lookup_cmd->add_option("--mean-radius", lookup.mean_radius_m, "mean particle radius, m")
+      ->required();
+  lookup_cmd->add_option("--k", lookup.permeability_m2, "target permeability, m^2")->required();
+  lookup_cmd->add_option("--particles", lookup.particles, "particle count (optional)");
+  lookup_cmd->add_option("--coordination", lookup.coordination, "coordination number (optional)");
+  lookup_cmd->add_option("--limit", lookup.limit, "neighbours to print")
+      ->check(CLI::Range(1u, 100u))
+      ->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   if (const int bad = LoadCredentials(&global); bad != 0) return bad;
@@ -69,5 +117,8 @@ int main(int argc, char** argv) {
   if (*resume_cmd) return Resume(global, job_id);
   if (*result_cmd) return Result(global, job_id);
   if (*health_cmd) return Health(global);
+  if (*calibrate_cmd) return Calibrate(global, calibrate);
+  if (*lookup_cmd) return LookupCalibration(global, lookup);
+  if (*calibrations_cmd) return ListCalibrations(global, calibrations);
   return 2;
 }

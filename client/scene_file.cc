@@ -33,8 +33,13 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 }  // namespace
 
 std::string LoadSceneFile(const std::string& path, v1::Scene* scene) {
+  return LoadMessageFile(path, scene, "scene");
+}
+
+std::string LoadMessageFile(const std::string& path, google::protobuf::Message* scene,
+                            const std::string& what) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return path + ": cannot open the scene file";
+  if (!in) return path + ": cannot open the " + what + " file";
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -44,12 +44,32 @@ std::optional<JobState> JobStateFromProto(v1::JobState state) {
   }
 }
 
+v1::JobKind JobKindToProto(JobKind kind) {
+  return kind == JobKind::kCalibration ? v1::JOB_KIND_CALIBRATION : v1::JOB_KIND_SIMULATION;
+}
+
+std::optional<JobKind> JobKindFromProto(v1::JobKind kind) {
+  switch (kind) {
+    case v1::JOB_KIND_SIMULATION:
+      return JobKind::kSimulation;
+    case v1::JOB_KIND_CALIBRATION:
+      return JobKind::kCalibration;
+    default:
+      return std::nullopt;
+  }
+}
+
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   out->set_id(job.id);
   out->set_name(job.name);
   out->set_request_id(job.request_id.value_or(""));
   out->set_state(JobStateToProto(job.state));
-  if (with_scene) (void)out->mutable_scene()->ParseFromString(job.scene);
+  out->set_kind(JobKindToProto(job.kind));
+  if (with_scene && job.kind == JobKind::kCalibration) {
+    (void)out->mutable_calibration()->ParseFromString(job.scene);
+  } else if (with_scene) {
+    (void)out->mutable_scene()->ParseFromString(job.scene);
+  }
   SetTime(job.created_at_ms, out->mutable_created_at());
   if (job.started_at_ms) SetTime(*job.started_at_ms, out->mutable_started_at());
   if (job.finished_at_ms) SetTime(*job.finished_at_ms, out->mutable_finished_at());
@@ -58,6 +78,7 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   progress->set_time_s(job.progress.time_s);
   progress->set_fraction_done(job.progress.fraction_done);
   progress->set_eta_s(job.progress.eta_s);
+  for (const auto& [name, value] : job.progress.latest) (*progress->mutable_latest())[name] = value;
   if (!job.error_code.empty()) {
     out->mutable_error()->set_code(job.error_code);
     out->mutable_error()->set_message(job.error_message);

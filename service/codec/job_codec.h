@@ -11,7 +11,10 @@ namespace seep::service {
 v1::JobState JobStateToProto(JobState state);
 // nullopt for JOB_STATE_UNSPECIFIED and values outside the enum.
 std::optional<JobState> JobStateFromProto(v1::JobState state);
-// with_scene = false leaves Job.scene empty (ListJobs keeps pages small).
+v1::JobKind JobKindToProto(JobKind kind);
+// nullopt for JOB_KIND_UNSPECIFIED and values outside the enum.
+std::optional<JobKind> JobKindFromProto(v1::JobKind kind);
+// with_scene = false leaves Job.scene (or Job.calibration) empty (ListJobs keeps pages small).
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out);
 
 }  // namespace seep::service

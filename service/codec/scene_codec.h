@@ -11,7 +11,4 @@ namespace seep::service {
 
 core::Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene);
 
-// Largest serialized scene seepd accepts (explicit particle lists dominate).
-inline constexpr std::size_t kMaxSceneBytes = 64u << 20;
-
 }  // namespace seep::service

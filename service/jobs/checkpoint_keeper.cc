@@ -6,18 +6,9 @@
 
 #include "codec/checkpoint_io.h"
 #include "codec/simulation_state_codec.h"
+#include "jobs/wall_clock.h"
 
 namespace seep::service {
-namespace {
-
-std::int64_t NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,
                                    const JobRecord& job, std::string build_id,
                                    std::shared_ptr<spdlog::logger> log)

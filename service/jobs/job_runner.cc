@@ -8,17 +8,12 @@
 #include "codec/checkpoint_io.h"
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
+#include "jobs/wall_clock.h"
 #include "seep/core/scene/simulation.h"
 #include "seep/v1/scene.pb.h"
 
 namespace seep::service {
 namespace {
-
-std::int64_t NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // Lower-case hex of the SHA-256 of `bytes`.
 std::string HexSha256(std::string_view bytes) {
@@ -148,6 +143,12 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
            fmt::format("attempt {} by {} (lease epoch {})", job.attempt, options_.lease_owner,
                        job.lease_epoch));
 
+  if (job.kind == JobKind::kCalibration) {
+    RunCalibration(job, *running, wall_start, log);
+    hub_.Finished(job.id);
+    return;
+  }
+
   CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
   std::optional<core::Simulation> sim;
   core::Status outcome = core::Internal("job did not run");
@@ -175,8 +176,16 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
         const double start_fraction =
             static_cast<double>(resumed_from) / static_cast<double>(sim->total_steps());
         const double done_here = p.fraction_done - start_fraction;
-        JobProgress progress{p.step, p.time_s, p.fraction_done,
-                             done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0};
+        JobProgress progress =
+            JobProgress::At(p.step, p.time_s, p.fraction_done,
+                            done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0);
+        const core::TimeSeries& series = sim->series();
+        if (const std::size_t rows = series.rows(); rows > 0) {
+          const std::size_t width = series.columns.size();
+          for (std::size_t c = 1; c < width; ++c) {  // column 0 is time_s, already in progress
+            progress.latest.emplace_back(series.columns[c], series.values[(rows - 1) * width + c]);
+          }
+        }
         hub_.Publish(job.id, progress);
         if (now - last_store_write >= options_.store_progress_interval) {
           last_store_write = now;
@@ -234,7 +243,7 @@ void JobRunner::Finish(const JobRecord& job, Running& running, const core::Statu
     const double fraction =
         static_cast<double>(sim->step()) / static_cast<double>(sim->total_steps());
     if (auto s = store_.UpdateProgress(job.id, running.epoch,
-                                       {sim->step(), sim->time_s(), fraction, 0.0});
+                                       JobProgress::At(sim->step(), sim->time_s(), fraction, 0.0));
         !s.ok()) {
       log->warn("last progress not stored: {}", s.ToString());
     }
@@ -255,8 +264,8 @@ void JobRunner::Finish(const JobRecord& job, Running& running, const core::Statu
     const core::RunReport report = sim->Report();
     const std::string state_sha = HexSha256(SerializeSimulationState(sim->TakeSnapshot()));
     (void)keeper.Write(*sim);  // the final state, for exports and later jobs
-    if (auto s =
-            store_.UpdateProgress(job.id, running.epoch, {report.steps, report.time_s, 1.0, 0.0});
+    if (auto s = store_.UpdateProgress(job.id, running.epoch,
+                                       JobProgress::At(report.steps, report.time_s, 1.0, 0.0));
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }

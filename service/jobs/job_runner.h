@@ -8,7 +8,9 @@
 // and leaves them RUNNING in the store, so the next seepd start queues them again. Running jobs
 // write periodic checkpoints (CheckpointKeeper), one more when they are stopped, and a claimed
 // job continues from its newest usable checkpoint: after a crash, a shutdown, a cancel or a
-// failure followed by ResumeJob.
+// failure followed by ResumeJob. Calibration jobs (job_runner_calibration.cc) are short and
+// write no checkpoints: after a restart or a resume they run again from the start, and their
+// records replace the earlier ones.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -78,6 +80,11 @@ class JobRunner {
               std::chrono::steady_clock::time_point wall_start,
               const std::shared_ptr<spdlog::logger>& log);
   void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // A calibration job (job_runner_calibration.cc): calibrates every target with the job's stop
+  // token, then records the records and the terminal state, each fenced by the lease epoch.
+  void RunCalibration(const JobRecord& job, Running& running,
+                      std::chrono::steady_clock::time_point wall_start,
+                      const std::shared_ptr<spdlog::logger>& log);
 
   JobStore& store_;
   JobHub& hub_;

@@ -8,6 +8,7 @@
 
 #include "codec/job_codec.h"
 #include "codec/scene_codec.h"
+#include "jobs/wall_clock.h"
 #include "rpc/status_mapping.h"
 
 namespace seep::service {
@@ -17,12 +18,6 @@ constexpr std::uint32_t kDefaultPageSize = 50;
 constexpr std::uint32_t kMaxPageSize = 1000;
 constexpr std::size_t kMaxRequestIdLength = 200;
 constexpr std::size_t kMaxNameFilterLength = 200;
-
-std::int64_t NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // Job ids are random, not sequential, so that two servers' ids never collide when records are
 // merged; 64 bits of entropy.
@@ -73,36 +68,52 @@ core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
 grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
                                         v1::SubmitJobResponse* resp) {
   return Guarded(logger_, guards_, ctx, "SubmitJob", [&]() -> grpc::Status {
-    if (!req->has_scene()) {
+    if (req->has_scene() && req->has_calibration()) {
+      return {grpc::StatusCode::INVALID_ARGUMENT,
+              "calibration: set either scene (a simulation) or calibration, not both"};
+    }
+    if (!req->has_scene() && !req->has_calibration()) {
       return {grpc::StatusCode::INVALID_ARGUMENT, "scene: is required"};
     }
     if (req->request_id().size() > kMaxRequestIdLength) {
       return {grpc::StatusCode::INVALID_ARGUMENT,
               fmt::format("request_id: at most {} characters", kMaxRequestIdLength)};
     }
-    // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
-    if (const std::size_t bytes = req->scene().ByteSizeLong(); bytes > guards_.max_scene_bytes) {
-      return {grpc::StatusCode::INVALID_ARGUMENT,
-              fmt::format("scene: {} bytes exceed the limit of {} (seepd --max-scene-bytes)", bytes,
-                          guards_.max_scene_bytes)};
-    }
-    // Validate fully before anything is stored: a bad scene leaves no trace.
-    if (auto spec = SceneFromProto(req->scene()); !spec.ok()) {
-      return ToGrpcStatus(spec.status());
-    }
     JobRecord job;
     job.id = NewJobId();
-    job.name = req->scene().name().empty() ? job.id : req->scene().name();
-    if (!req->request_id().empty()) job.request_id = req->request_id();
-    if (!req->scene().SerializeToString(&job.scene)) {
-      return {grpc::StatusCode::INTERNAL, "scene: could not serialize"};
+    if (req->has_calibration()) {
+      // seep_service_calibrations.cc: checks, from_job_id, validation, serialization.
+      auto prepared = PrepareCalibrationJob(req->calibration());
+      if (!prepared.ok()) return ToGrpcStatus(prepared.status());
+      job.kind = JobKind::kCalibration;
+      job.name = prepared->name;
+      job.scene = std::move(prepared->bytes);
+      if (job.name.empty()) job.name = job.id;
+    } else {
+      // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
+      if (const std::size_t bytes = req->scene().ByteSizeLong(); bytes > guards_.max_scene_bytes) {
+        return {grpc::StatusCode::INVALID_ARGUMENT,
+                fmt::format("scene: {} bytes exceed the limit of {} (seepd --max-scene-bytes)",
+                            bytes, guards_.max_scene_bytes)};
+      }
+      // Validate fully before anything is stored: a bad scene leaves no trace.
+      if (auto spec = SceneFromProto(req->scene()); !spec.ok()) {
+        return ToGrpcStatus(spec.status());
+      }
+      job.name = req->scene().name().empty() ? job.id : req->scene().name();
+      if (!req->scene().SerializeToString(&job.scene)) {
+        return {grpc::StatusCode::INTERNAL, "scene: could not serialize"};
+      }
     }
+    if (!req->request_id().empty()) job.request_id = req->request_id();
     job.build_id = build_id_;
     job.created_at_ms = NowMs();
     auto outcome = store_.Insert(job);
     if (!outcome.ok()) return ToGrpcStatus(outcome.status());
     if (outcome->created) {
-      logger_->info("job {} submitted ('{}')", outcome->job.id, outcome->job.name);
+      logger_->info("{} job {} submitted ('{}')",
+                    outcome->job.kind == JobKind::kCalibration ? "calibration" : "simulation",
+                    outcome->job.id, outcome->job.name);
       hub_.NotifyChanged();
       if (hooks_.wake_workers) hooks_.wake_workers();
     }
@@ -154,6 +165,14 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
               fmt::format("name_contains: at most {} characters", kMaxNameFilterLength)};
     }
     filter.name_contains = req->name_contains();
+    for (const int kind : req->kinds()) {
+      const auto known = JobKindFromProto(static_cast<v1::JobKind>(kind));
+      if (!known) {
+        return {grpc::StatusCode::INVALID_ARGUMENT,
+                fmt::format("kinds: {} is not a job kind", kind)};
+      }
+      filter.kinds.push_back(*known);
+    }
     auto page = store_.List(limit, cursor, filter);
     if (!page.ok()) return ToGrpcStatus(page.status());
     for (JobRecord& job : page->jobs) {
@@ -244,6 +263,20 @@ grpc::Status SeepServiceImpl::GetResult(grpc::ServerContext* ctx, const v1::GetR
     *resp->mutable_result() = wire.result();
     return grpc::Status::OK;
   });
+}
+
+grpc::Status SeepServiceImpl::ListCalibrations(grpc::ServerContext* ctx,
+                                               const v1::ListCalibrationsRequest* req,
+                                               v1::ListCalibrationsResponse* resp) {
+  return Guarded(logger_, guards_, ctx, "ListCalibrations",
+                 [&]() -> grpc::Status { return DoListCalibrations(*req, resp); });
+}
+
+grpc::Status SeepServiceImpl::LookupCalibration(grpc::ServerContext* ctx,
+                                                const v1::LookupCalibrationRequest* req,
+                                                v1::LookupCalibrationResponse* resp) {
+  return Guarded(logger_, guards_, ctx, "LookupCalibration",
+                 [&]() -> grpc::Status { return DoLookupCalibration(*req, resp); });
 }
 
 }  // namespace seep::service

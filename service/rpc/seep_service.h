@@ -50,8 +50,25 @@ class SeepServiceImpl final : public v1::SeepService::Service {
                          v1::ResumeJobResponse* resp) override;
   grpc::Status GetResult(grpc::ServerContext* ctx, const v1::GetResultRequest* req,
                          v1::GetResultResponse* resp) override;
+  grpc::Status ListCalibrations(grpc::ServerContext* ctx, const v1::ListCalibrationsRequest* req,
+                                v1::ListCalibrationsResponse* resp) override;
+  grpc::Status LookupCalibration(grpc::ServerContext* ctx, const v1::LookupCalibrationRequest* req,
+                                 v1::LookupCalibrationResponse* resp) override;
 
  private:
+  // A calibration ready to store: its name and serialized seep.v1.Calibration.
+  struct PreparedCalibration {
+    std::string name;
+    std::string bytes;
+  };
+  // The calibration half of SubmitJob and the calibration queries
+  // (seep_service_calibrations.cc). Nothing is stored for a calibration that fails its checks.
+  core::Result<PreparedCalibration> PrepareCalibrationJob(const v1::Calibration& calibration);
+  grpc::Status DoListCalibrations(const v1::ListCalibrationsRequest& req,
+                                  v1::ListCalibrationsResponse* resp);
+  grpc::Status DoLookupCalibration(const v1::LookupCalibrationRequest& req,
+                                   v1::LookupCalibrationResponse* resp);
+
   // The stored job with the hub's live progress laid over it.
   core::Result<JobRecord> LoadJob(const std::string& id);
 

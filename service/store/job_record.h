@@ -1,5 +1,6 @@
 // What the store keeps of a job. Plain data: the scene travels as the serialized seep.v1.Scene
-// bytes, so the store needs neither protobuf nor the physics.
+// bytes (seep.v1.Calibration for a calibration job), so the store needs neither protobuf nor the
+// physics.
 #pragma once
 
 #include <cstdint>
@@ -18,11 +19,29 @@ inline bool IsTerminal(JobState s) {
   return s == JobState::kSucceeded || s == JobState::kFailed || s == JobState::kCancelled;
 }
 
+// What a job runs: a scene (simulation) or a residual-aperture calibration.
+enum class JobKind { kSimulation, kCalibration };
+
+const char* JobKindName(JobKind kind);  // "SIMULATION", "CALIBRATION"; the spelling stored
+std::optional<JobKind> ParseJobKind(std::string_view name);
+
 struct JobProgress {
   std::uint64_t step = 0;
   double time_s = 0.0;
   double fraction_done = 0.0;
   double eta_s = 0.0;
+  // The newest sample of the run's time series by column name (boundary rates, pressure range,
+  // mass-balance error): live progress only, never stored.
+  std::vector<std::pair<std::string, double>> latest;
+
+  static JobProgress At(std::uint64_t step, double time_s, double fraction_done, double eta_s) {
+    JobProgress p;
+    p.step = step;
+    p.time_s = time_s;
+    p.fraction_done = fraction_done;
+    p.eta_s = eta_s;
+    return p;
+  }
 };
 
 struct JobRecord {
@@ -30,7 +49,8 @@ struct JobRecord {
   std::string name;
   std::optional<std::string> request_id;
   JobState state = JobState::kQueued;
-  std::string scene;  // serialized seep.v1.Scene
+  JobKind kind = JobKind::kSimulation;
+  std::string scene;  // serialized seep.v1.Scene, or seep.v1.Calibration for a calibration job
   std::string build_id;
   std::int64_t created_at_ms = 0;
   std::optional<std::int64_t> started_at_ms;

@@ -72,6 +72,73 @@ CREATE TABLE events (
 ) STRICT;
 CREATE INDEX events_by_job ON events(job_id, id);
 )sql",
+    // v4: job kinds, and the calibration records (one row per calibrated target, with the
+    // packing, fluid, aperture law and stress it holds for) and their tags
+    // (job_store_calibrations.cc). A job's tags are rows, so "has every tag" is one COUNT.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN kind TEXT NOT NULL DEFAULT 'SIMULATION'
+  CHECK (kind IN ('SIMULATION','CALIBRATION'));
+CREATE INDEX jobs_by_kind ON jobs(kind);
+CREATE TABLE calibrations (
+  id INTEGER PRIMARY KEY,
+  job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  target_index INTEGER NOT NULL,
+  target_permeability_m2 REAL NOT NULL,
+  residual_aperture_m REAL NOT NULL,
+  permeability_m2 REAL NOT NULL,
+  relative_error REAL NOT NULL,
+  converged INTEGER NOT NULL,
+  tolerance REAL NOT NULL,
+  iterations INTEGER NOT NULL,
+  corrections INTEGER NOT NULL,
+  first_guess_residual_aperture_m REAL NOT NULL,
+  first_guess_permeability_m2 REAL NOT NULL,
+  first_guess_relative_error REAL NOT NULL,
+  particle_count INTEGER NOT NULL,
+  contact_count INTEGER NOT NULL,
+  domain_count INTEGER NOT NULL,
+  pipe_count INTEGER NOT NULL,
+  porosity_2d REAL NOT NULL,
+  mean_radius_m REAL NOT NULL,
+  radius_std_dev_m REAL NOT NULL,
+  min_radius_m REAL NOT NULL,
+  max_radius_m REAL NOT NULL,
+  coordination_number REAL NOT NULL,
+  viscosity_pa_s REAL NOT NULL,
+  bulk_modulus_pa REAL NOT NULL,
+  reference_force_n REAL NOT NULL,
+  gap_multiplier REAL NOT NULL,
+  max_aperture_m REAL NOT NULL,
+  uniform_normal_force_n REAL NOT NULL,
+  listed_contact_forces INTEGER NOT NULL,
+  pipes_in_compression INTEGER NOT NULL,
+  pipes_closed_unloaded INTEGER NOT NULL,
+  pipes_open INTEGER NOT NULL,
+  pipes_capped INTEGER NOT NULL,
+  min_normal_force_n REAL NOT NULL,
+  mean_normal_force_n REAL NOT NULL,
+  max_normal_force_n REAL NOT NULL,
+  aperture_proportional_to_a0 INTEGER NOT NULL,
+  flow_axis TEXT NOT NULL CHECK (flow_axis IN ('X','Y')),
+  pressure_drop_pa REAL NOT NULL,
+  sample_length_m REAL NOT NULL,
+  sample_width_m REAL NOT NULL,
+  scene_sha256 TEXT NOT NULL,
+  build_id TEXT NOT NULL,
+  created_at_ms INTEGER NOT NULL,
+  UNIQUE (job_id, target_index)
+) STRICT;
+CREATE INDEX calibrations_by_k ON calibrations(target_permeability_m2);
+CREATE INDEX calibrations_by_porosity ON calibrations(porosity_2d);
+CREATE INDEX calibrations_by_created ON calibrations(created_at_ms);
+CREATE INDEX calibrations_by_setup ON calibrations(scene_sha256, target_permeability_m2);
+CREATE TABLE calibration_tags (
+  job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  tag TEXT NOT NULL,
+  PRIMARY KEY (job_id, tag)
+) STRICT;
+CREATE INDEX calibration_tags_by_tag ON calibration_tags(tag, job_id);
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 static_assert(kMigrationCount == JobStore::kSchemaVersion);
@@ -79,8 +146,8 @@ static_assert(kMigrationCount == JobStore::kSchemaVersion);
 constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
-    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms";
-constexpr int kSceneColumn = 20;  // after kJobColumns
+    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind";
+constexpr int kSceneColumn = 21;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -103,6 +170,7 @@ JobRecord ReadJobRow(const Stmt& s) {
   if (!s.ColumnIsNull(17)) job.lease_owner = s.ColumnText(17);
   job.lease_epoch = s.ColumnInt(18);
   if (!s.ColumnIsNull(19)) job.lease_expires_at_ms = s.ColumnInt(19);
+  job.kind = ParseJobKind(s.ColumnText(20)).value_or(JobKind::kSimulation);
   return job;
 }
 
@@ -158,7 +226,7 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
     SEEP_ASSIGN_OR_RETURN(const auto existing, FindByRequestIdLocked(*job.request_id));
     if (existing) {
       SEEP_ASSIGN_OR_RETURN(JobRecord found, GetLocked(*existing, /*with_scene=*/true));
-      if (found.scene != job.scene) {
+      if (found.scene != job.scene || found.kind != job.kind) {
         return core::AlreadyExists(
             fmt::format("request_id: '{}' was already used for job {} with a different scene",
                         *job.request_id, found.id));
@@ -168,13 +236,14 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
   }
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
-                           "created_at_ms) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?)"));
+                           "created_at_ms, kind) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?)"));
   s.Bind(1, std::string_view(job.id))
       .Bind(2, job.request_id)
       .Bind(3, std::string_view(job.name))
       .BindBlob(4, job.scene)
       .Bind(5, std::string_view(job.build_id))
-      .Bind(6, job.created_at_ms);
+      .Bind(6, job.created_at_ms)
+      .Bind(7, std::string_view(JobKindName(job.kind)));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_RETURN_IF_ERROR(tx.Commit());
   JobRecord stored = job;
@@ -217,6 +286,11 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
     where += ")";
   }
   if (!filter.name_contains.empty()) where += " AND instr(name, ?) > 0";
+  if (!filter.kinds.empty()) {
+    where += " AND kind IN (";
+    for (std::size_t i = 0; i < filter.kinds.size(); ++i) where += i == 0 ? "?" : ", ?";
+    where += ")";
+  }
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE {} ORDER BY rowid DESC LIMIT ?",
                                        kJobColumns, where)));
@@ -226,6 +300,7 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
     s.Bind(index++, std::string_view(JobStateName(state)));
   }
   if (!filter.name_contains.empty()) s.Bind(index++, std::string_view(filter.name_contains));
+  for (const JobKind kind : filter.kinds) s.Bind(index++, std::string_view(JobKindName(kind)));
   s.Bind(index, static_cast<std::int64_t>(limit) + 1);
   JobPage page;
   std::int64_t last_rowid = 0;
@@ -376,7 +451,7 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
                            "lease_expires_at_ms = NULL WHERE id = ?"));
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
-  for (const char* table : {"results", "result_series"}) {
+  for (const char* table : {"results", "result_series", "calibrations", "calibration_tags"}) {
     SEEP_ASSIGN_OR_RETURN(Stmt clear,
                           db_->Prepare(fmt::format("DELETE FROM {} WHERE job_id = ?", table)));
     clear.Bind(1, std::string_view(id));

@@ -13,6 +13,7 @@
 
 #include "job_record.h"
 #include "seep/core/status.h"
+#include "stored_calibration.h"
 
 namespace seep::service {
 
@@ -29,6 +30,7 @@ struct InsertOutcome {
 struct JobFilter {
   std::vector<JobState> states;
   std::string name_contains;
+  std::vector<JobKind> kinds;
 };
 
 struct JobPage {
@@ -38,7 +40,7 @@ struct JobPage {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 3;
+  static constexpr int kSchemaVersion = 4;
   ~JobStore();
 
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
@@ -90,6 +92,23 @@ class JobStore {
                   const std::string& message);
   Result<std::vector<JobEventRecord>> ListEvents(const std::string& id);
 
+  // Calibration records (job_store_calibrations.cc). Record replaces every record and tag of
+  // the job (a re-run after a restart writes the same rows again), fenced by the lease epoch;
+  // every record must carry job_id == id.
+  Status RecordCalibrations(const std::string& id, std::int64_t epoch,
+                            const std::vector<StoredCalibration>& records,
+                            const std::vector<std::string>& tags);
+  // Newest first; cursor is the next_cursor of the previous page (with the same filter).
+  Result<CalibrationPage> ListCalibrations(std::uint32_t limit, std::optional<std::int64_t> cursor,
+                                           const CalibrationFilter& filter = {});
+  // The `limit` converged records closest to the probe by CalibrationDistance
+  // (calibration_lookup.h), closest first; ties go to the newer record. A scan of every
+  // converged record: fine for the thousands a calibration database holds.
+  Result<std::vector<CalibrationNeighbour>> NearestCalibrations(const CalibrationProbe& probe,
+                                                                std::uint32_t limit);
+  // Every converged record of one setup (scene_sha256), by target permeability.
+  Result<std::vector<StoredCalibration>> CalibrationsOfSetup(const std::string& scene_sha256);
+
   // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
   // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
   Result<int> RequeueRunning(const std::string& current_owner);
@@ -100,6 +119,7 @@ class JobStore {
   Result<JobRecord> GetLocked(const std::string& id, bool with_scene);
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
+  Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
 
   std::mutex mutex_;
   std::unique_ptr<Db> db_;

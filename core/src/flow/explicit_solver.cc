@@ -202,8 +202,10 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
     report.volume_change = b.volume_change;
     report.stored_change = b.stored_change;
     const double expected = step * (b.boundary_inflow + source_inflow) - b.volume_change;
-    const double scale =
-        b.stored_magnitude + step * (b.boundary_magnitude + source_magnitude) + b.volume_magnitude;
+    // Relative to the fluid held as well as to what moved (flow_step_report.h): near
+    // equilibrium the step's terms vanish and only the level bounds what P can resolve.
+    const double scale = b.stored_level + b.stored_magnitude +
+                         step * (b.boundary_magnitude + source_magnitude) + b.volume_magnitude;
     report.mass_balance_error = scale > 0.0 ? std::abs(b.stored_change - expected) / scale : 0.0;
     report.min_pressure = b.min_pressure;
     report.max_pressure = b.max_pressure;
@@ -243,8 +245,10 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
   if (n > 1e12) {
     return FailedPrecondition(
         "flow.explicit: advancing " + flow_internal::FormatNumber(duration) + " s needs " +
-        flow_internal::FormatNumber(n) + " sub-steps of dt_crit = " +
-        flow_internal::FormatNumber(limit_.dt_crit) + " s; use the implicit solver");
+        flow_internal::FormatNumber(n) +
+        " sub-steps of dt_crit = " + flow_internal::FormatNumber(limit_.dt_crit) +
+        " s (limiting domain " + std::to_string(limit_.limiting_domain) +
+        "); use the implicit solver, or merge that domain into a neighbour");
   }
   FlowAdvanceReport out;
   out.sub_steps = static_cast<std::int64_t>(std::max(1.0, n));

@@ -127,6 +127,7 @@ Result<SteadyStateReport> SteadyStateSolver::Solve(FlowNetwork& network) {
   const auto pa = network.pipe_domain_a();
   const auto pb = network.pipe_domain_b();
   const auto c = network.pipe_conductance();
+  double carrying = 0.0;
   for (std::size_t p = 0; p < c.size(); ++p) {
     const bool fa = role[pa[p]] == DomainRole::kFixedPressure;
     const bool fb = role[pb[p]] == DomainRole::kFixedPressure;
@@ -135,13 +136,16 @@ Result<SteadyStateReport> SteadyStateSolver::Solve(FlowNetwork& network) {
                         : c[p] * (pressure[pb[p]] - pressure[pa[p]]);
     report.boundary_inflow += q;
     report.boundary_magnitude += std::abs(q);
+    // Pressures resolved to a relative d move each boundary flow by up to d C (|P_a| + |P_b|):
+    // without this term a state where nothing flows reports its noise relative to noise.
+    carrying += c[p] * (std::abs(pressure[pa[p]]) + std::abs(pressure[pb[p]]));
   }
   double src_mag = 0.0;
   for (std::size_t d = 0; d < nd; ++d) {
     report.source_inflow += q_src[d];
     src_mag += std::abs(q_src[d]);
   }
-  const double scale = report.boundary_magnitude + src_mag;
+  const double scale = report.boundary_magnitude + src_mag + carrying;
   report.mass_balance_error =
       scale > 0.0 ? std::abs(report.boundary_inflow + report.source_inflow) / scale : 0.0;
   report.min_pressure = std::numeric_limits<double>::infinity();

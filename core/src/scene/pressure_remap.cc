@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <utility>
 
 namespace seep::core {
@@ -89,6 +91,31 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
       ++o;
       ++n;
     }
+  }
+  // A loop contact of the old network that bounds no loop of the new one (lost, or left dangling)
+  // joins the two old faces beside it: they are one face now. This also catches a domain whose
+  // every loop contact broke at once, which no surviving half-edge would match.
+  std::set<HalfEdge> new_edges;  // unordered: (smaller id, larger id)
+  const auto add_edges = [&new_edges](const std::vector<std::int32_t>& particles,
+                                      const std::vector<std::int32_t>& offsets) {
+    for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+      const auto begin = static_cast<std::size_t>(offsets[f]);
+      const auto end = static_cast<std::size_t>(offsets[f + 1]);
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
+        new_edges.insert(std::minmax(particles[k], next));
+      }
+    }
+  };
+  add_edges(new_network.loop_particles, new_network.loop_offsets);
+  add_edges(new_network.outer_particles, new_network.outer_offsets);
+  for (const auto& [edge, face] : old_left) {
+    if (new_edges.count(std::minmax(edge.first, edge.second)) != 0) continue;
+    const auto twin = old_left.find(HalfEdge{edge.second, edge.first});
+    if (twin == old_left.end()) continue;  // the outside was beside it: that face opened
+    const std::int32_t a = Find(parent, face);
+    const std::int32_t b = Find(parent, twin->second);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
   }
 
   PressureRemapReport report;

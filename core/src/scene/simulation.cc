@@ -185,8 +185,9 @@ Status Simulation::StepOnce() {
   }
   const std::uint64_t s = step_ + 1;
   const double end = scene_.solver.end_time_s;
-  // The last step lands exactly on end_time_s.
-  const double step_dt = s == total_steps_ ? end - time_s_ : dt_;
+  // The last step lands on end_time_s: it is the time left, which the summed steps can make an
+  // ulp longer than dt (that would exceed dt_crit at dt_factor 1), so never more than dt.
+  const double step_dt = s == total_steps_ ? std::min(end - time_s_, dt_) : dt_;
   SEEP_ASSIGN_OR_RETURN(
       const FlowStepReport report,
       std::visit(

@@ -82,7 +82,7 @@ TEST_F(JobStoreTest, ClaimRunsOldestFirstAndFinishStoresMetrics) {
   EXPECT_EQ((*claimed)->started_at_ms, 2000);
   const std::int64_t epoch = (*claimed)->lease_epoch;
 
-  ASSERT_TRUE(store_->UpdateProgress("first", epoch, {7, 0.5, 0.25, 3.0}).ok());
+  ASSERT_TRUE(store_->UpdateProgress("first", epoch, JobProgress::At(7, 0.5, 0.25, 3.0)).ok());
   EXPECT_EQ(store_->Get("first")->progress.step, 7u);
   ASSERT_TRUE(store_
                   ->Finish("first", epoch, JobState::kSucceeded, "", "", {{"k", 1.5}, {"a", -2.0}},
@@ -188,14 +188,14 @@ TEST_F(JobStoreTest, ClaimTakesALeaseAndEveryClaimRaisesTheEpoch) {
 TEST_F(JobStoreTest, AStaleEpochCannotWrite) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   const std::int64_t stale = (*store_->ClaimNextQueued("old", 100, 30))->lease_epoch;
-  ASSERT_TRUE(store_->UpdateProgress("a", stale, {3, 0.1, 0.1, 0}).ok());
+  ASSERT_TRUE(store_->UpdateProgress("a", stale, JobProgress::At(3, 0.1, 0.1, 0)).ok());
   // The lease passes to a new claimant (as after a restart).
   ASSERT_EQ(*store_->RequeueRunning("new"), 1);
   const std::int64_t current = (*store_->ClaimNextQueued("new", 200, 30))->lease_epoch;
   ASSERT_EQ(current, stale + 1);
 
   EXPECT_EQ(store_->Heartbeat("a", stale, 999).status().code(), core::StatusCode::kAborted);
-  EXPECT_EQ(store_->UpdateProgress("a", stale, {50, 5.0, 0.9, 0}).code(),
+  EXPECT_EQ(store_->UpdateProgress("a", stale, JobProgress::At(50, 5.0, 0.9, 0)).code(),
             core::StatusCode::kAborted);
   EXPECT_EQ(store_->Finish("a", stale, JobState::kSucceeded, "", "", {{"k", 1.0}}, 1.0, 300).code(),
             core::StatusCode::kAborted);
@@ -207,7 +207,7 @@ TEST_F(JobStoreTest, AStaleEpochCannotWrite) {
   EXPECT_TRUE(job->metrics.empty());
 
   // The current holder writes normally.
-  ASSERT_TRUE(store_->UpdateProgress("a", current, {4, 0.2, 0.2, 0}).ok());
+  ASSERT_TRUE(store_->UpdateProgress("a", current, JobProgress::At(4, 0.2, 0.2, 0)).ok());
   ASSERT_TRUE(
       store_->Finish("a", current, JobState::kSucceeded, "", "", {{"k", 2.0}}, 1.0, 400).ok());
   job = store_->Get("a");
@@ -271,7 +271,7 @@ TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
   const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
-  ASSERT_TRUE(store_->UpdateProgress("a", epoch, {9, 1.0, 0.5, 0}).ok());
+  ASSERT_TRUE(store_->UpdateProgress("a", epoch, JobProgress::At(9, 1.0, 0.5, 0)).ok());
   ASSERT_TRUE(store_->Finish("a", epoch, JobState::kFailed, "INTERNAL", "boom", {}, 0.5, 200).ok());
   ASSERT_TRUE(store_->Cancel("b", 300).ok());
 
@@ -318,38 +318,38 @@ TEST_F(JobStoreTest, ListFiltersByStateAndNameAndStillPages) {
   ASSERT_TRUE(store_->Cancel("alpha2", 1).ok());
   ASSERT_TRUE(store_->Cancel("beta3", 1).ok());
 
-  auto cancelled = store_->List(10, std::nullopt, {{JobState::kCancelled}, ""});
+  auto cancelled = store_->List(10, std::nullopt, {{JobState::kCancelled}, "", {}});
   ASSERT_TRUE(cancelled.ok()) << cancelled.status().ToString();
   ASSERT_EQ(cancelled->jobs.size(), 2u);
   EXPECT_EQ(cancelled->jobs[0].id, "beta3");
   EXPECT_EQ(cancelled->jobs[1].id, "alpha2");
 
-  auto alpha = store_->List(10, std::nullopt, {{}, "alpha"});
+  auto alpha = store_->List(10, std::nullopt, {{}, "alpha", {}});
   ASSERT_EQ(alpha->jobs.size(), 3u);
   EXPECT_EQ(alpha->jobs[0].id, "alpha4");
 
-  auto queued_alpha = store_->List(10, std::nullopt, {{JobState::kQueued}, "alpha"});
+  auto queued_alpha = store_->List(10, std::nullopt, {{JobState::kQueued}, "alpha", {}});
   ASSERT_EQ(queued_alpha->jobs.size(), 2u);
   EXPECT_EQ(queued_alpha->jobs[0].id, "alpha4");
   EXPECT_EQ(queued_alpha->jobs[1].id, "alpha0");
 
   auto two_states =
-      store_->List(10, std::nullopt, {{JobState::kQueued, JobState::kCancelled}, "beta"});
+      store_->List(10, std::nullopt, {{JobState::kQueued, JobState::kCancelled}, "beta", {}});
   ASSERT_EQ(two_states->jobs.size(), 2u);
 
   // Paging with a filter: one per page, newest first, then no cursor.
-  auto p1 = store_->List(1, std::nullopt, {{}, "alpha"});
+  auto p1 = store_->List(1, std::nullopt, {{}, "alpha", {}});
   ASSERT_EQ(p1->jobs.size(), 1u);
   EXPECT_EQ(p1->jobs[0].id, "alpha4");
-  auto p2 = store_->List(1, p1->next_cursor, {{}, "alpha"});
+  auto p2 = store_->List(1, p1->next_cursor, {{}, "alpha", {}});
   EXPECT_EQ(p2->jobs[0].id, "alpha2");
-  auto p3 = store_->List(1, p2->next_cursor, {{}, "alpha"});
+  auto p3 = store_->List(1, p2->next_cursor, {{}, "alpha", {}});
   EXPECT_EQ(p3->jobs[0].id, "alpha0");
   EXPECT_FALSE(p3->next_cursor.has_value());
 
   // A pattern character is matched literally.
-  EXPECT_TRUE(store_->List(10, std::nullopt, {{}, "%"})->jobs.empty());
-  EXPECT_TRUE(store_->List(10, std::nullopt, {{JobState::kRunning}, ""})->jobs.empty());
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{}, "%", {}})->jobs.empty());
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{JobState::kRunning}, "", {}})->jobs.empty());
 }
 
 TEST_F(JobStoreTest, MigratesAVersion1Database) {
@@ -385,6 +385,7 @@ PRAGMA user_version=1;
   EXPECT_EQ(old->attempt, 1u);
   EXPECT_EQ(old->lease_epoch, 0);
   EXPECT_FALSE(old->cancel_requested);
+  EXPECT_EQ(old->kind, JobKind::kSimulation);  // v4's default for the jobs it finds
   auto resumed = (*reopened)->Resume("old");
   ASSERT_TRUE(resumed.ok());
   EXPECT_EQ(resumed->attempt, 2u);
@@ -395,7 +396,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 3);
+  EXPECT_EQ(JobStore::kSchemaVersion, 4);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }

@@ -41,7 +41,10 @@ struct SteadyStateReport {
   double boundary_inflow = 0.0;     // net rate into the network from fixed nodes, m^2/s
   double boundary_magnitude = 0.0;  // sum of |flux| over fixed-node pipes, m^2/s
   double source_inflow = 0.0;       // sum Q_src, m^2/s
-  double mass_balance_error = 0.0;  // |boundary_inflow + source_inflow| / (magnitudes), relative
+  // |boundary_inflow + source_inflow| relative to the flux magnitudes plus what the boundary
+  // pipes could carry at their pressures, sum C (|P_a| + |P_b|): how well the balance closes
+  // compared with how finely the pressures resolve it (a state where nothing flows reports ~eps).
+  double mass_balance_error = 0.0;
   double min_pressure = 0.0;
   double max_pressure = 0.0;
   std::int32_t num_components = 0;

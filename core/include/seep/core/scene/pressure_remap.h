@@ -7,7 +7,10 @@
 // left (domain loops are CCW; an island's outer loop is clockwise with its host domain on the
 // left). A half-edge present in both networks has overlapping faces on its left, an old domain D
 // and a new domain E, so D and E are joined. The connected groups of old and new domains so
-// joined are clusters: each cluster covers the same region before and after (e.g. two old domains
+// joined are clusters. A loop contact of the old network that bounds no loop of the new one
+// (broken, or left dangling) also joins the two old domains beside it, so a domain whose loop
+// contacts all broke at once still joins the face it merged into. Clusters are the groups so
+// joined: each cluster covers the same region before and after (e.g. two old domains
 // and their merged successor; one old domain and its two children).
 //
 // Rule. Every new domain of a cluster gets the storage-weighted mean pressure of the cluster's

@@ -88,6 +88,8 @@ class Simulation {
   double dt_s() const { return dt_; }  // 0 for a steady scene
   const SceneSpec& scene() const { return scene_; }
   const SceneNetwork& network() const { return net_; }
+  // The samples so far; the last row is the newest (live progress shows it).
+  const TimeSeries& series() const { return series_; }
 
   // The measurements of the current state (the final ones once Run() returned OK).
   RunReport Report() const;

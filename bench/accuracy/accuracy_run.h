@@ -1,0 +1,48 @@
+// One row of the accuracy bench: a verification problem run once with one choice of solver,
+// storage, step, resolution and fluid stiffness, with its wall time and its error against the
+// analytic answer.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "seep/core/scene/scene_spec.h"
+
+namespace seep::bench {
+
+struct AccuracyRun {
+  std::string problem;           // e.g. "diffusion_T0.2", "darcy", "thiem", "terzaghi"
+  std::string solver;            // "explicit", "implicit", "steady" or "pending"
+  std::string storage;           // "apparent", "pore" or "-" (steady)
+  double dt_over_dt_crit = 0.0;  // 0 for steady
+  int resolution = 0;            // domains along the sample (radially: across the annulus)
+  std::int64_t domains = 0;      // free domains of the whole network
+  double bulk_modulus_pa = 0.0;  // 0 when K_f does not enter (steady)
+  std::uint64_t steps = 0;
+  double wall_s = 0.0;   // Simulation::Run only (best of the repeats)
+  double setup_s = 0.0;  // Simulation::Create: packing, contacts, domains, network
+  double error = 0.0;    // see error_kind
+  std::string error_kind;
+  std::string note;      // free text without commas
+  bool pending = false;  // a problem listed but not run (no numbers)
+};
+
+// Short labels for the CSV and the table.
+inline std::string SolverLabel(core::SolverKind kind) {
+  switch (kind) {
+    case core::SolverKind::kExplicit:
+      return "explicit";
+    case core::SolverKind::kImplicit:
+      return "implicit";
+    case core::SolverKind::kSteady:
+    default:
+      return "steady";
+  }
+}
+
+inline std::string StorageLabel(const core::SolverSpec& solver) {
+  if (solver.kind == core::SolverKind::kSteady) return "-";
+  return solver.storage == core::StorageVolumeKind::kPore ? "pore" : "apparent";
+}
+
+}  // namespace seep::bench

@@ -1,0 +1,190 @@
+// DemContactForces: disk-disk and disk-wall contacts, parallel bonds, and the Verlet neighbour
+// list that finds them. One call per step, AddForces(), adds every contact and bond force to the
+// particles.
+//
+// Pair table. The neighbour list holds every pair (i < j) whose surface gap was below the skin
+// distance at the last rebuild, plus every intact bond, SORTED by (i, j). Each entry carries the
+// contact state: shear history, current normal force and gap, and its bond if any. An entry is a
+// *contact* while its gap < 0 (the disks overlap) or it is bonded; an entry whose disks do not
+// touch has zero history (a new contact starts from zero history; a separating one loses it), so
+// the sorted list of contacts (CollectContacts) is exactly "the persistent contact list keyed by
+// (i, j)" of the design, without inserting or erasing in the hot loop. Disk-wall contacts are kept
+// the same way, keyed (i, wall) and sorted.
+//
+// Rebuild policy. The list is rebuilt (cell grid of size 2 R_max + skin, O(N)) only when some
+// particle has moved more than skin/2, or some wall more than skin/2 along its normal, since the
+// last rebuild; the shear histories and bonds are carried over by merging the old and new sorted
+// lists. With periodic x, positions are wrapped into [x0, x0 + Lx) at each rebuild (only then, so
+// they stay continuous between rebuilds) and pair vectors use the nearest image.
+//
+// Determinism and threads. Forces are computed per pair in parallel into per-pair slots; then each
+// particle sums its own pairs in ascending pair order (no atomics, no thread-dependent sums):
+// results are bit-identical for any OpenMP thread count. Wall contacts and bond-break bookkeeping
+// are serial (they are few).
+//
+// Flow coupling. After AddForces: CollectContacts() lists contacts with their normal force F
+// (> 0 compression) and gap g (> 0 open, for bonded pairs that have separated), and
+// broken_bonds() the bonds that broke in this call.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "seep/core/dem/contact_law.h"
+#include "seep/core/dem/dem_counters.h"
+#include "seep/core/dem/dem_particles.h"
+#include "seep/core/dem/dem_wall.h"
+#include "seep/core/dem/parallel_bond.h"
+#include "seep/core/dem/servo_wall.h"
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+struct DemContactSettings {
+  ContactLawParams law;     // disk-disk and disk-wall law
+  double skin = 0.0;        // Verlet skin distance (>= 0, same unit as the radii)
+  bool periodic_x = false;  // periodic boundary along x over [x0, x0 + lx)
+  double x0 = 0.0;
+  double lx = 0.0;  // > 0 when periodic_x; must hold >= 3 grid cells (2 R_max + skin)
+};
+
+// "dem.contact.skin: must be finite and >= 0 (got -1)".
+Status ValidateDemContactSettings(const DemContactSettings& settings);
+
+// One disk-disk contact as seen by the flow coupling (sorted by (i, j)).
+struct DemContactRecord {
+  std::int32_t i = 0, j = 0;
+  double normal_force = 0.0;  // > 0 compression (contact law + bond normal force)
+  double gap = 0.0;           // surface gap, < 0 overlap
+  double shear_force = 0.0;   // tangential contact force (history) on i along t
+  bool bonded = false;
+};
+
+// One disk-wall contact (sorted by (particle, wall)).
+struct DemWallContactRecord {
+  std::int32_t particle = 0, wall = 0;
+  double normal_force = 0.0;
+  double gap = 0.0;
+  double shear_force = 0.0;
+};
+
+class DemContactForces {
+ public:
+  static Result<DemContactForces> Create(const DemContactSettings& settings);
+
+  // Adds contact and bond forces and torques of the current positions and velocities to
+  // particles->fx, fy, torque (the caller clears them first). Rebuilds the neighbour list when
+  // needed (and then wraps x when periodic). `walls` may be empty; its size must not change
+  // between calls without a ForceRebuild(). dt is the step (for the shear and bond increments).
+  Status AddForces(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
+                   DemCounters* counters);
+  // Same, but the forces and torques are SET (the previous values are discarded), saving the
+  // separate ClearForces pass: use it as the first force of a step.
+  Status SetForces(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
+                   DemCounters* counters);
+
+  // Bonds every pair whose surface gap <= tolerance (tolerance >= 0) with zero initial force
+  // and moment. Replaces ALL existing bonds (one BondParams set for the whole assembly); the next
+  // force pass rebuilds the list. Returns the number of bonds created.
+  Result<std::size_t> BondTouchingPairs(DemParticles* particles, const BondParams& params,
+                                        double tolerance, DemCounters* counters);
+
+  // Next AddForces rebuilds the list (after particles or walls were added, moved or replaced).
+  void ForceRebuild() { needs_rebuild_ = true; }
+
+  // Bonds that broke during the last AddForces/SetForces, sorted by (i, j): the event the flow
+  // coupling needs to re-detect domains.
+  const std::vector<BondBreak>& broken_bonds() const { return broken_; }
+  // Per wall: the loads of the last AddForces/SetForces (index = wall index), for servos.
+  const std::vector<DemWallLoad>& wall_loads() const { return wall_loads_; }
+  std::size_t intact_bond_count() const;
+
+  // The current contacts (overlapping or bonded pairs), sorted by key.
+  void CollectContacts(std::vector<DemContactRecord>* out) const;
+  void CollectWallContacts(std::vector<DemWallContactRecord>* out) const;
+
+  // Number of pairs in the neighbour list (candidates).
+  std::size_t pair_count() const { return pairs_.size(); }
+  const DemContactSettings& settings() const { return settings_; }
+  // Heap bytes held (capacity).
+  std::size_t MemoryBytes() const;
+
+ private:
+  explicit DemContactForces(const DemContactSettings& settings) : settings_(settings) {}
+  // Rebuild reasons other than particle motion (first call, sizes changed, a wall moved).
+  bool NeedsRebuild(const DemParticles& p, const std::vector<DemWall>& walls) const;
+  // Copies the disks into packed_ and returns the largest squared displacement since the last
+  // rebuild.
+  double PackDisks(const DemParticles& p);
+  Status Rebuild(DemParticles* p, const std::vector<DemWall>& walls, double cutoff,
+                 DemCounters* counters);
+  // Candidate pairs (i < j, sorted) with gap < cutoff into cand_i_, cand_j_.
+  Status FindCandidatePairs(const DemParticles& p, double cutoff);
+  // Computes every pair into its slot (from packed_), gathers the slots into the particles.
+  void ComputePairForces(DemParticles* p, double dt, bool overwrite, DemCounters* counters);
+  void ComputeWallForces(DemParticles* p, const std::vector<DemWall>& walls, double dt,
+                         DemCounters* counters);
+  void CollectBondBreaks(DemCounters* counters);
+
+  DemContactSettings settings_;
+  bool needs_rebuild_ = true;
+  BondParams bond_params_;
+
+  // One neighbour-list pair and its contact state (48 bytes, one array: the hot loop streams
+  // it instead of eight separate arrays).
+  struct PairEntry {
+    std::int32_t i, j;    // i < j
+    std::int32_t bond;    // bond index or -1
+    std::int32_t unused;  // padding, kept zero
+    double damping;       // normal viscous coefficient c of the pair
+    double shear;         // tangential spring force (history)
+    double fn;            // normal force of the last evaluation (contact + bond)
+    double gap;           // gap of the last evaluation
+  };
+  // Per-pair results, filled in parallel then gathered per particle.
+  struct PairSlot {
+    double fx, fy;  // force on i (-f on j)
+    double ft;      // tangential force: torque R_i ft on i, R_j ft on j
+    double m;       // bond moment: +m on i, -m on j
+  };
+  // The particle fields the pair loop reads, packed so that one disk is one or two cache lines.
+  struct PackedDisk {
+    double x, y, vx, vy, omega, r;
+  };
+  template <bool kBonds>
+  void PairForcesKernel(DemParticles* particles, double dt, bool overwrite, DemCounters* counters);
+  Status Evaluate(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
+                  bool overwrite, DemCounters* counters);
+
+  // Pair table (neighbour list + contact state), sorted by (i, j).
+  std::vector<PairEntry> pairs_;
+  std::vector<PairSlot> slots_;
+  std::vector<PackedDisk> packed_;
+  // Per-particle CSR of pair entries in ascending pair order: k for side i, ~k for side j.
+  std::vector<std::int32_t> gather_start_, gather_items_;
+
+  // Bonds, sorted by (bond_i_, bond_j_); broken ones are dropped at the next rebuild.
+  std::vector<std::int32_t> bond_i_, bond_j_;
+  std::vector<double> bond_half_width_;
+  std::vector<BondState> bond_state_;
+  std::vector<BondFailure> bond_failure_;  // kNone while intact
+  std::vector<std::uint8_t> bond_reported_;
+  std::vector<BondBreak> broken_;
+
+  // Wall contacts, sorted by (wall_p_, wall_w_).
+  std::vector<std::int32_t> wall_p_, wall_w_;
+  std::vector<double> wall_shear_, wall_fn_, wall_gap_;
+  std::vector<DemWallLoad> wall_loads_;
+
+  // Reference positions of the last rebuild.
+  std::vector<double> ref_x_, ref_y_;
+  std::vector<double> ref_wall_x_, ref_wall_y_;
+
+  // Rebuild scratch (kept to avoid reallocations).
+  std::vector<std::int32_t> cand_i_, cand_j_;
+  std::vector<std::int32_t> cell_start_, cell_items_, cell_of_;
+  std::vector<std::int32_t> row_candidates_;
+};
+
+}  // namespace seep::core

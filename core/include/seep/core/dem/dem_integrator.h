@@ -1,0 +1,42 @@
+// Body forces, PFC local damping, the velocity-Verlet integrator and the stable step estimate.
+//
+// Integrator: velocity-Verlet (kick-drift-kick), the scheme of the shared benchmark and of
+// LAMMPS fix nve/sphere, so our figures compare like with like:
+//   FirstHalf:  v += (dt/2) F/m,  omega += (dt/2) T/I,  x += dt v     (F, T of the last pass)
+//   (forces are computed at the new positions, with the half-step velocities)
+//   SecondHalf: v += (dt/2) F/m,  omega += (dt/2) T/I
+// Positions are the same as PFC's central-difference (leapfrog) scheme; velocity-Verlet also
+// gives velocities at whole steps (kinetic energy, restitution), which is why it was chosen.
+// Both are second order and stable for dt < 2 / omega_max.
+// `fixed` particles keep v and omega (their x still advances with the held velocity).
+#pragma once
+
+#include "seep/core/dem/contact_law.h"
+#include "seep/core/dem/dem_counters.h"
+#include "seep/core/dem/dem_particles.h"
+#include "seep/core/status.h"
+
+namespace seep::core {
+
+// F += m g for every particle (fixed ones too: their velocity is held anyway, and their force
+// then reads as the support reaction).
+void AddGravity(DemParticles* particles, double gx, double gy, DemCounters* counters);
+
+// PFC local damping: each force component (and the torque) becomes
+//   F_k - alpha |F_k| sign(v_k)
+// (alpha in [0, 1), typically 0.7 for quasi-static loading). Call after all forces are summed.
+void ApplyLocalDamping(DemParticles* particles, double alpha, DemCounters* counters);
+
+void IntegrateFirstHalf(DemParticles* particles, double dt, DemCounters* counters);
+void IntegrateSecondHalf(DemParticles* particles, double dt, DemCounters* counters);
+
+// A stable step for the linear contact law:
+//   dt = safety * min_i min( sqrt(m_i / kn), sqrt(I_i / (kt R_i^2)) )
+// sqrt(m/k) is 1/omega of one disk on one spring (translation), sqrt(I/(kt R^2)) the same for
+// rotation through the tangential spring; velocity-Verlet is stable up to dt = 2/omega, and a
+// disk held by several contacts has a stiffer effective spring (about coordination x kn), so use
+// safety <= 1 (0.1-0.3 is usual). kt = 0 drops the rotational term. safety in (0, 2].
+Result<double> EstimateStableTimeStep(const DemParticles& particles, double kn, double kt,
+                                      double safety);
+
+}  // namespace seep::core

@@ -1,0 +1,585 @@
+// Neighbour list, contact and bond forces of the DEM (see dem_contacts.h for the design).
+#include "seep/core/dem/dem_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "dem_parallel.h"
+
+namespace seep::core {
+namespace {
+
+// Nearest periodic image of a pair vector component (valid while |dx| < 1.5 lx).
+inline double NearestImage(double dx, bool periodic, double lx) {
+  if (!periodic) return dx;
+  const double half = 0.5 * lx;
+  if (dx > half) return dx - lx;
+  if (dx < -half) return dx + lx;
+  return dx;
+}
+
+inline bool KeyLess(std::int32_t ai, std::int32_t aj, std::int32_t bi, std::int32_t bj) {
+  return ai < bi || (ai == bi && aj < bj);
+}
+
+template <typename T>
+std::size_t Bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+Status ValidateDemContactSettings(const DemContactSettings& s) {
+  SEEP_RETURN_IF_ERROR(ValidateContactLawParams(s.law));
+  if (!std::isfinite(s.skin) || s.skin < 0.0) {
+    return InvalidArgument("dem.contact.skin: must be finite and >= 0 (got " +
+                           std::to_string(s.skin) + ")");
+  }
+  if (s.periodic_x) {
+    if (!std::isfinite(s.x0)) return InvalidArgument("dem.contact.x0: must be finite");
+    if (!std::isfinite(s.lx) || s.lx <= 0.0) {
+      return InvalidArgument("dem.contact.lx: must be finite and > 0 when periodic_x (got " +
+                             std::to_string(s.lx) + ")");
+    }
+  }
+  return Status::Ok();
+}
+
+Result<DemContactForces> DemContactForces::Create(const DemContactSettings& settings) {
+  SEEP_RETURN_IF_ERROR(ValidateDemContactSettings(settings));
+  return DemContactForces(settings);
+}
+
+std::size_t DemContactForces::intact_bond_count() const {
+  return static_cast<std::size_t>(
+      std::count(bond_failure_.begin(), bond_failure_.end(), BondFailure::kNone));
+}
+
+bool DemContactForces::NeedsRebuild(const DemParticles& p,
+                                    const std::vector<DemWall>& walls) const {
+  if (needs_rebuild_ || ref_x_.size() != p.size() || ref_wall_x_.size() != walls.size() ||
+      packed_.size() != p.size()) {
+    return true;
+  }
+  const double half_skin = 0.5 * settings_.skin;
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const double d =
+        (walls[w].px - ref_wall_x_[w]) * walls[w].nx + (walls[w].py - ref_wall_y_[w]) * walls[w].ny;
+    if (std::abs(d) > half_skin) return true;
+  }
+  return false;
+}
+
+double DemContactForces::PackDisks(const DemParticles& p) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
+  const double* __restrict x = p.x.data();
+  const double* __restrict y = p.y.data();
+  const double* __restrict vx = p.vx.data();
+  const double* __restrict vy = p.vy.data();
+  const double* __restrict w = p.omega.data();
+  const double* __restrict rad = p.radius.data();
+  const double* __restrict rx = ref_x_.data();
+  const double* __restrict ry = ref_y_.data();
+  PackedDisk* __restrict packed = packed_.data();
+  double max_d2 = 0.0;  // max is exact, so the reduction is thread-count independent
+#pragma omp parallel for schedule(static) \
+    reduction(max                         \
+              : max_d2) if (n >= dem_internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    packed[i] = PackedDisk{x[i], y[i], vx[i], vy[i], w[i], rad[i]};
+    const double dx = x[i] - rx[i];
+    const double dy = y[i] - ry[i];
+    max_d2 = std::max(max_d2, dx * dx + dy * dy);
+  }
+  return max_d2;
+}
+
+Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff) {
+  cand_i_.clear();
+  cand_j_.clear();
+  const std::size_t n = p.size();
+  if (n == 0) return Status::Ok();
+  const bool periodic = settings_.periodic_x;
+  const double lx = settings_.lx;
+  double rmax = 0.0, xmin = p.x[0], xmax = p.x[0], ymin = p.y[0], ymax = p.y[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i])) {
+      return FailedPrecondition("dem.contact: particle " + std::to_string(i) +
+                                " has a non-finite position (the run has diverged)");
+    }
+    rmax = std::max(rmax, p.radius[i]);
+    xmin = std::min(xmin, p.x[i]);
+    xmax = std::max(xmax, p.x[i]);
+    ymin = std::min(ymin, p.y[i]);
+    ymax = std::max(ymax, p.y[i]);
+  }
+  // Any pair closer than `cutoff` has centre distance < 2 rmax + cutoff = h: a 3x3 block of cells
+  // at least h wide holds all of them.
+  const double h = 2.0 * rmax + cutoff;
+  std::int64_t nx = 0;
+  double hx = h;
+  if (periodic) {
+    nx = static_cast<std::int64_t>(std::floor(lx / h));
+    if (nx < 3) {
+      return InvalidArgument(
+          "dem.contact.lx: the periodic length " + std::to_string(lx) +
+          " must hold at least 3 cells of 2 R_max + skin = " + std::to_string(h));
+    }
+    hx = lx / static_cast<double>(nx);
+    xmin = settings_.x0;
+  } else {
+    nx = static_cast<std::int64_t>(std::floor((xmax - xmin) / h)) + 1;
+  }
+  std::int64_t ny = static_cast<std::int64_t>(std::floor((ymax - ymin) / h)) + 1;
+  double hy = h;
+  // A particle far from the others must not blow up the grid: cap the cell count (larger cells
+  // are still correct, only slower).
+  const std::int64_t max_cells = 4 * static_cast<std::int64_t>(n) + 64;
+  if (nx > max_cells) nx = max_cells, hx = (xmax - xmin) / static_cast<double>(nx) * (1 + 1e-12);
+  if (nx * ny > max_cells) {
+    ny = std::max<std::int64_t>(1, max_cells / nx);
+    hy = std::max(h, (ymax - ymin) / static_cast<double>(ny) * (1.0 + 1e-12));
+    ny = static_cast<std::int64_t>(std::floor((ymax - ymin) / hy)) + 1;
+  }
+  if (!periodic && hx < h) hx = h;
+  const std::int64_t cells = nx * ny;
+  cell_of_.resize(n);
+  cell_start_.assign(static_cast<std::size_t>(cells) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t cx = static_cast<std::int64_t>(std::floor((p.x[i] - xmin) / hx));
+    if (periodic) {
+      cx %= nx;
+      if (cx < 0) cx += nx;
+    } else {
+      cx = std::clamp<std::int64_t>(cx, 0, nx - 1);
+    }
+    const std::int64_t cy =
+        std::clamp<std::int64_t>(static_cast<std::int64_t>((p.y[i] - ymin) / hy), 0, ny - 1);
+    cell_of_[i] = static_cast<std::int32_t>(cy * nx + cx);
+    ++cell_start_[static_cast<std::size_t>(cell_of_[i]) + 1];
+  }
+  for (std::int64_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_items_.resize(n);
+  {
+    std::vector<std::int32_t>& fill = row_candidates_;  // reused as the fill cursor
+    fill.assign(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) cell_items_[fill[cell_of_[i]]++] = static_cast<int>(i);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    row_candidates_.clear();
+    const std::int64_t c = cell_of_[i];
+    const std::int64_t cx = c % nx, cy = c / nx;
+    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i];
+    for (std::int64_t oy = -1; oy <= 1; ++oy) {
+      const std::int64_t yy = cy + oy;
+      if (yy < 0 || yy >= ny) continue;
+      for (std::int64_t ox = -1; ox <= 1; ++ox) {
+        std::int64_t xx = cx + ox;
+        if (periodic) {
+          xx = (xx + nx) % nx;
+        } else if (xx < 0 || xx >= nx) {
+          continue;
+        }
+        const std::int64_t cc = yy * nx + xx;
+        for (std::int32_t s = cell_start_[cc]; s < cell_start_[cc + 1]; ++s) {
+          const std::int32_t j = cell_items_[s];
+          if (j <= static_cast<std::int32_t>(i)) continue;
+          // Any distance of images here (BondTouchingPairs may see unwrapped positions).
+          double dx = p.x[j] - xi;
+          if (periodic) dx -= lx * std::round(dx / lx);
+          const double dy = p.y[j] - yi;
+          const double gap = std::sqrt(dx * dx + dy * dy) - ri - p.radius[j];
+          if (gap < cutoff) row_candidates_.push_back(j);
+        }
+      }
+    }
+    std::sort(row_candidates_.begin(), row_candidates_.end());
+    for (std::int32_t j : row_candidates_) {
+      cand_i_.push_back(static_cast<std::int32_t>(i));
+      cand_j_.push_back(j);
+    }
+  }
+  return Status::Ok();
+}
+
+Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& walls, double cutoff,
+                                 DemCounters* counters) {
+  const std::size_t n = p->size();
+  if (settings_.periodic_x) {
+    const double x0 = settings_.x0, lx = settings_.lx;
+    for (std::size_t i = 0; i < n; ++i) {
+      double xi = p->x[i] - lx * std::floor((p->x[i] - x0) / lx);
+      if (xi >= x0 + lx) xi = x0;  // rounding of the line above
+      p->x[i] = xi;
+    }
+  }
+  SEEP_RETURN_IF_ERROR(FindCandidatePairs(*p, cutoff));
+
+  // Drop the bonds that broke (already reported) so that bond indices stay dense.
+  {
+    std::size_t out = 0;
+    for (std::size_t b = 0; b < bond_i_.size(); ++b) {
+      if (bond_failure_[b] != BondFailure::kNone) continue;
+      bond_i_[out] = bond_i_[b];
+      bond_j_[out] = bond_j_[b];
+      bond_half_width_[out] = bond_half_width_[b];
+      bond_state_[out] = bond_state_[b];
+      ++out;
+    }
+    bond_i_.resize(out);
+    bond_j_.resize(out);
+    bond_half_width_.resize(out);
+    bond_state_.resize(out);
+    bond_failure_.assign(out, BondFailure::kNone);
+    bond_reported_.assign(out, 0);
+  }
+
+  // New pair table = candidates merged with the bonds (a bonded pair stays listed however far it
+  // moves), carrying the shear history of pairs that were already listed.
+  std::vector<PairEntry> fresh;
+  fresh.reserve(cand_i_.size() + bond_i_.size());
+  std::size_t c = 0, b = 0, o = 0;
+  const std::size_t nc = cand_i_.size(), nb = bond_i_.size(), no = pairs_.size();
+  while (c < nc || b < nb) {
+    PairEntry e{};
+    e.bond = -1;
+    if (b >= nb || (c < nc && KeyLess(cand_i_[c], cand_j_[c], bond_i_[b], bond_j_[b]))) {
+      e.i = cand_i_[c];
+      e.j = cand_j_[c];
+      ++c;
+    } else {
+      e.i = bond_i_[b];
+      e.j = bond_j_[b];
+      e.bond = static_cast<std::int32_t>(b);
+      if (c < nc && cand_i_[c] == e.i && cand_j_[c] == e.j) ++c;
+      ++b;
+    }
+    while (o < no && KeyLess(pairs_[o].i, pairs_[o].j, e.i, e.j)) ++o;
+    if (o < no && pairs_[o].i == e.i && pairs_[o].j == e.j) {
+      e.shear = pairs_[o].shear;
+      e.fn = pairs_[o].fn;
+      e.gap = pairs_[o].gap;
+    }
+    const double m_eff = 1.0 / (p->inv_mass[e.i] + p->inv_mass[e.j]);
+    e.damping = NormalDampingCoefficient(settings_.law, m_eff);
+    fresh.push_back(e);
+  }
+  pairs_.swap(fresh);
+  const std::size_t np = pairs_.size();
+  slots_.assign(np, PairSlot{});
+  packed_.resize(n);
+
+  // Per-particle gather lists in ascending pair order.
+  gather_start_.assign(n + 1, 0);
+  for (const PairEntry& e : pairs_) {
+    ++gather_start_[e.i + 1];
+    ++gather_start_[e.j + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
+  gather_items_.resize(2 * np);
+  {
+    std::vector<std::int32_t>& fill = row_candidates_;
+    fill.assign(gather_start_.begin(), gather_start_.end() - 1);
+    for (std::size_t k = 0; k < np; ++k) {
+      const auto kk = static_cast<std::int32_t>(k);
+      gather_items_[fill[pairs_[k].i]++] = kk;
+      gather_items_[fill[pairs_[k].j]++] = ~kk;
+    }
+  }
+
+  // Wall candidates, keyed (particle, wall), with their history carried over.
+  {
+    std::vector<std::int32_t> wp, ww;
+    std::vector<double> wshear, wfn, wgap;
+    std::size_t old = 0;
+    const std::size_t nold = wall_p_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t w = 0; w < walls.size(); ++w) {
+        const DemWall& wall = walls[w];
+        const double gap =
+            (p->x[i] - wall.px) * wall.nx + (p->y[i] - wall.py) * wall.ny - p->radius[i];
+        if (!(gap < cutoff)) continue;
+        const auto ii = static_cast<std::int32_t>(i), wi = static_cast<std::int32_t>(w);
+        while (old < nold && KeyLess(wall_p_[old], wall_w_[old], ii, wi)) ++old;
+        const bool had = old < nold && wall_p_[old] == ii && wall_w_[old] == wi;
+        wp.push_back(ii);
+        ww.push_back(wi);
+        wshear.push_back(had ? wall_shear_[old] : 0.0);
+        wfn.push_back(had ? wall_fn_[old] : 0.0);
+        wgap.push_back(gap);
+      }
+    }
+    wall_p_.swap(wp);
+    wall_w_.swap(ww);
+    wall_shear_.swap(wshear);
+    wall_fn_.swap(wfn);
+    wall_gap_.swap(wgap);
+  }
+
+  ref_x_ = p->x;
+  ref_y_ = p->y;
+  ref_wall_x_.resize(walls.size());
+  ref_wall_y_.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    ref_wall_x_[w] = walls[w].px;
+    ref_wall_y_[w] = walls[w].py;
+  }
+  needs_rebuild_ = false;
+  if (counters != nullptr) ++counters->neighbour_rebuilds;
+  return Status::Ok();
+}
+
+template <bool kBonds>
+void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool overwrite,
+                                        DemCounters* counters) {
+  const DemParticles& p = *particles;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
+  const std::ptrdiff_t np = static_cast<std::ptrdiff_t>(pairs_.size());
+  const bool periodic = settings_.periodic_x;
+  const double lx = settings_.lx;
+  const double kn = settings_.law.kn, kt = settings_.law.kt, mu = settings_.law.friction;
+  PairEntry* __restrict pairs = pairs_.data();
+  PairSlot* __restrict slots = slots_.data();
+  PackedDisk* __restrict packed = packed_.data();
+  const std::int32_t* __restrict start = gather_start_.data();
+  const std::int32_t* __restrict items = gather_items_.data();
+  double* __restrict fx = particles->fx.data();
+  double* __restrict fy = particles->fy.data();
+  double* __restrict tq = particles->torque.data();
+  BondState* bstate = bond_state_.data();
+  BondFailure* bfail = bond_failure_.data();
+  const double* bwidth = bond_half_width_.data();
+  const BondParams bp = bond_params_;
+  std::uint64_t touching = 0, bond_evals = 0;
+  // One parallel region, two loops (pairs, then the gather that needs all of them).
+#pragma omp parallel if (np >= dem_internal::kMinParallelItems)
+  {
+#pragma omp for schedule(static) reduction(+ : touching, bond_evals)
+    for (std::ptrdiff_t k = 0; k < np; ++k) {
+      PairEntry& e = pairs[k];
+      const PackedDisk a = packed[e.i];
+      const PackedDisk b = packed[e.j];
+      const double dx = NearestImage(b.x - a.x, periodic, lx);
+      const double dy = b.y - a.y;
+      const double rs = a.r + b.r;
+      // Coincident centres have no normal; the floor keeps the arithmetic finite.
+      const double r2 = std::max(dx * dx + dy * dy, 1e-300);
+      const double r = std::sqrt(r2);
+      const double inv_r = 1.0 / r;
+      const double nx = dx * inv_r, ny = dy * inv_r;
+      const double gap = r - rs;
+      const double dvx = b.vx - a.vx, dvy = b.vy - a.vy;
+      const double vn = dvx * nx + dvy * ny;
+      const double vt = dvy * nx - dvx * ny - (a.omega * a.r + b.omega * b.r);
+      // Branch-free: every listed pair runs the law, open ones are multiplied by 0 (their history
+      // is thereby reset). About a third of the pairs are open, at random: a branch mispredicts.
+      const bool touch = gap < 0.0;
+      touching += touch ? 1u : 0u;
+      const double on = touch ? 1.0 : 0.0;
+      const ContactForce f =
+          EvaluateLinearContact(-gap, vn, vt, e.damping, kn, kt, mu, e.shear, dt);
+      double fnc = on * f.fn, ftc = on * f.ft, moment = 0.0;
+      e.shear = ftc;
+      if constexpr (kBonds) {
+        const std::int32_t bi = e.bond;
+        if (bi >= 0 && bfail[bi] == BondFailure::kNone) {
+          ++bond_evals;
+          BondState& st = bstate[bi];
+          const BondFailure failure = UpdateBond(bp, bwidth[bi], vn, vt, a.omega, b.omega, dt, &st);
+          if (failure != BondFailure::kNone) {
+            bfail[bi] = failure;  // one bond per pair entry: no other thread writes it
+          } else {
+            fnc += st.fn;
+            ftc += st.fs;
+            moment = st.moment;
+          }
+        }
+      }
+      e.fn = fnc;
+      e.gap = gap;
+      slots[k] = PairSlot{-fnc * nx - ftc * ny, -fnc * ny + ftc * nx, ftc, moment};
+    }
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
+      for (std::int32_t g = start[i]; g < start[i + 1]; ++g) {
+        const std::int32_t it = items[g];
+        const bool side_i = it >= 0;
+        const PairSlot& sl = slots[side_i ? it : ~it];
+        const double sign = side_i ? 1.0 : -1.0;  // exact: x (+-1) only flips the sign
+        ax += sign * sl.fx;
+        ay += sign * sl.fy;
+        ft += sl.ft;
+        if constexpr (kBonds) m += sign * sl.m;
+      }
+      const double torque = packed[i].r * ft + m;
+      if (overwrite) {  // loop-invariant: the compiler unswitches it
+        fx[i] = ax;
+        fy[i] = ay;
+        tq[i] = torque;
+      } else {
+        fx[i] += ax;
+        fy[i] += ay;
+        tq[i] += torque;
+      }
+    }
+  }
+  if (counters != nullptr) {
+    counters->pair_checks += static_cast<std::uint64_t>(np);
+    counters->pair_evaluations += touching;
+    counters->bond_evaluations += bond_evals;
+  }
+}
+
+void DemContactForces::ComputePairForces(DemParticles* p, double dt, bool overwrite,
+                                         DemCounters* counters) {
+  if (bond_i_.empty()) {
+    PairForcesKernel<false>(p, dt, overwrite, counters);
+  } else {
+    PairForcesKernel<true>(p, dt, overwrite, counters);
+  }
+}
+
+void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemWall>& walls,
+                                         double dt, DemCounters* counters) {
+  wall_loads_.assign(walls.size(), DemWallLoad{});
+  const ContactLawParams& law = settings_.law;
+  std::uint64_t touching = 0;
+  for (std::size_t c = 0; c < wall_p_.size(); ++c) {
+    const std::int32_t i = wall_p_[c];
+    const DemWall& wall = walls[wall_w_[c]];
+    const double ri = p->radius[i];
+    const double gap = (p->x[i] - wall.px) * wall.nx + (p->y[i] - wall.py) * wall.ny - ri;
+    wall_gap_[c] = gap;
+    if (!(gap < 0.0)) {
+      wall_shear_[c] = 0.0;
+      wall_fn_[c] = 0.0;
+      continue;
+    }
+    ++touching;
+    // Normal from the disk to the wall, tangent t = z x n.
+    const double nx = -wall.nx, ny = -wall.ny;
+    const double dvx = wall.vx - p->vx[i], dvy = wall.vy - p->vy[i];
+    const double vn = dvx * nx + dvy * ny;
+    const double vt = dvy * nx - dvx * ny - p->omega[i] * ri;
+    const double damping = NormalDampingCoefficient(law, p->mass[i]);
+    const ContactForce f = EvaluateLinearContact(-gap, vn, vt, damping, law.kn, law.kt,
+                                                 law.friction, wall_shear_[c], dt);
+    wall_shear_[c] = f.ft;
+    wall_fn_[c] = f.fn;
+    p->fx[i] += -f.fn * nx - f.ft * ny;
+    p->fy[i] += -f.fn * ny + f.ft * nx;
+    p->torque[i] += ri * f.ft;
+    DemWallLoad& load = wall_loads_[wall_w_[c]];
+    load.normal_force += f.fn;
+    load.stiffness_sum += law.kn;
+    load.damping_sum += damping;
+    ++load.contact_count;
+  }
+  if (counters != nullptr) {
+    counters->wall_checks += wall_p_.size();
+    counters->wall_evaluations += touching;
+  }
+}
+
+void DemContactForces::CollectBondBreaks(DemCounters* counters) {
+  for (std::size_t b = 0; b < bond_i_.size(); ++b) {
+    if (bond_failure_[b] == BondFailure::kNone || bond_reported_[b]) continue;
+    bond_reported_[b] = 1;
+    broken_.push_back(BondBreak{bond_i_[b], bond_j_[b], bond_failure_[b]});
+    if (counters != nullptr) ++counters->bonds_broken;
+  }
+}
+
+Status DemContactForces::AddForces(DemParticles* particles, const std::vector<DemWall>& walls,
+                                   double dt, DemCounters* counters) {
+  return Evaluate(particles, walls, dt, /*overwrite=*/false, counters);
+}
+
+Status DemContactForces::SetForces(DemParticles* particles, const std::vector<DemWall>& walls,
+                                   double dt, DemCounters* counters) {
+  return Evaluate(particles, walls, dt, /*overwrite=*/true, counters);
+}
+
+Status DemContactForces::Evaluate(DemParticles* particles, const std::vector<DemWall>& walls,
+                                  double dt, bool overwrite, DemCounters* counters) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    return InvalidArgument("dem.contact.dt: must be finite and > 0 (got " + std::to_string(dt) +
+                           ")");
+  }
+  broken_.clear();
+  // The displacement check rides on the packing pass (one parallel region instead of two).
+  bool rebuild = NeedsRebuild(*particles, walls);
+  if (!rebuild) {
+    const double half_skin = 0.5 * settings_.skin;
+    rebuild = PackDisks(*particles) > half_skin * half_skin;
+  }
+  if (rebuild) {
+    SEEP_RETURN_IF_ERROR(Rebuild(particles, walls, settings_.skin, counters));
+    PackDisks(*particles);  // positions may have been wrapped
+  }
+  ComputePairForces(particles, dt, overwrite, counters);
+  ComputeWallForces(particles, walls, dt, counters);
+  if (!bond_i_.empty()) CollectBondBreaks(counters);
+  return Status::Ok();
+}
+
+Result<std::size_t> DemContactForces::BondTouchingPairs(DemParticles* particles,
+                                                        const BondParams& params, double tolerance,
+                                                        DemCounters* counters) {
+  SEEP_RETURN_IF_ERROR(ValidateBondParams(params));
+  if (!std::isfinite(tolerance) || tolerance < 0.0) {
+    return InvalidArgument("dem.bond.tolerance: must be finite and >= 0 (got " +
+                           std::to_string(tolerance) + ")");
+  }
+  // gap < nextafter(tol) is gap <= tol.
+  SEEP_RETURN_IF_ERROR(FindCandidatePairs(
+      *particles, std::nextafter(tolerance, std::numeric_limits<double>::infinity())));
+  bond_params_ = params;
+  bond_i_ = cand_i_;
+  bond_j_ = cand_j_;
+  const std::size_t nb = bond_i_.size();
+  bond_half_width_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    bond_half_width_[b] =
+        BondHalfWidth(params, particles->radius[bond_i_[b]], particles->radius[bond_j_[b]]);
+  }
+  bond_state_.assign(nb, BondState{});
+  bond_failure_.assign(nb, BondFailure::kNone);
+  bond_reported_.assign(nb, 0);
+  needs_rebuild_ = true;
+  (void)counters;
+  return nb;
+}
+
+void DemContactForces::CollectContacts(std::vector<DemContactRecord>* out) const {
+  out->clear();
+  for (const PairEntry& e : pairs_) {
+    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
+    if (!(e.gap < 0.0) && !bonded) continue;
+    out->push_back(DemContactRecord{e.i, e.j, e.fn, e.gap, e.shear, bonded});
+  }
+}
+
+void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* out) const {
+  out->clear();
+  for (std::size_t c = 0; c < wall_p_.size(); ++c) {
+    if (!(wall_gap_[c] < 0.0)) continue;
+    out->push_back(
+        DemWallContactRecord{wall_p_[c], wall_w_[c], wall_fn_[c], wall_gap_[c], wall_shear_[c]});
+  }
+}
+
+std::size_t DemContactForces::MemoryBytes() const {
+  return Bytes(pairs_) + Bytes(slots_) + Bytes(packed_) + Bytes(gather_start_) +
+         Bytes(gather_items_) + Bytes(bond_i_) + Bytes(bond_j_) + Bytes(bond_half_width_) +
+         Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
+         Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +
+         Bytes(wall_loads_) + Bytes(ref_x_) + Bytes(ref_y_) + Bytes(ref_wall_x_) +
+         Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) + Bytes(cell_start_) +
+         Bytes(cell_items_) + Bytes(cell_of_) + Bytes(row_candidates_);
+}
+
+}  // namespace seep::core

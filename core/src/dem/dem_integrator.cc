@@ -1,0 +1,118 @@
+// Gravity, PFC local damping, velocity-Verlet halves and the stable step estimate.
+#include "seep/core/dem/dem_integrator.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "dem_parallel.h"
+
+namespace seep::core {
+
+void AddGravity(DemParticles* p, double gx, double gy, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+  const double* m = p->mass.data();
+  double* fx = p->fx.data();
+  double* fy = p->fy.data();
+#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    fx[i] += m[i] * gx;
+    fy[i] += m[i] * gy;
+  }
+  if (counters != nullptr) counters->gravity_applications += static_cast<std::uint64_t>(n);
+}
+
+namespace {
+// -alpha |f| sign(v), with sign(0) = 0 (a particle at rest is not pushed).
+inline double Damped(double f, double v, double alpha) {
+  const double d = alpha * std::abs(f);
+  return v > 0.0 ? f - d : (v < 0.0 ? f + d : f);
+}
+}  // namespace
+
+void ApplyLocalDamping(DemParticles* p, double alpha, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    p->fx[i] = Damped(p->fx[i], p->vx[i], alpha);
+    p->fy[i] = Damped(p->fy[i], p->vy[i], alpha);
+    p->torque[i] = Damped(p->torque[i], p->omega[i], alpha);
+  }
+  if (counters != nullptr) counters->local_damping_applications += static_cast<std::uint64_t>(n);
+}
+
+void IntegrateFirstHalf(DemParticles* p, double dt, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+  const double h = 0.5 * dt;
+  double* __restrict x = p->x.data();
+  double* __restrict y = p->y.data();
+  double* __restrict vx = p->vx.data();
+  double* __restrict vy = p->vy.data();
+  double* __restrict w = p->omega.data();
+  const double* __restrict fx = p->fx.data();
+  const double* __restrict fy = p->fy.data();
+  const double* __restrict t = p->torque.data();
+  const double* __restrict im = p->inv_mass.data();
+  const double* __restrict ii = p->inv_inertia.data();
+  const std::uint8_t* __restrict fixed = p->fixed.data();
+#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (!fixed[i]) {
+      vx[i] += h * fx[i] * im[i];
+      vy[i] += h * fy[i] * im[i];
+      w[i] += h * t[i] * ii[i];
+    }
+    x[i] += dt * vx[i];
+    y[i] += dt * vy[i];
+  }
+  if (counters != nullptr) counters->integrations += static_cast<std::uint64_t>(n);
+}
+
+void IntegrateSecondHalf(DemParticles* p, double dt, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+  const double h = 0.5 * dt;
+  double* __restrict vx = p->vx.data();
+  double* __restrict vy = p->vy.data();
+  double* __restrict w = p->omega.data();
+  const double* __restrict fx = p->fx.data();
+  const double* __restrict fy = p->fy.data();
+  const double* __restrict t = p->torque.data();
+  const double* __restrict im = p->inv_mass.data();
+  const double* __restrict ii = p->inv_inertia.data();
+  const std::uint8_t* __restrict fixed = p->fixed.data();
+#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (fixed[i]) continue;
+    vx[i] += h * fx[i] * im[i];
+    vy[i] += h * fy[i] * im[i];
+    w[i] += h * t[i] * ii[i];
+  }
+  if (counters != nullptr) counters->integrations += static_cast<std::uint64_t>(n);
+}
+
+Result<double> EstimateStableTimeStep(const DemParticles& p, double kn, double kt, double safety) {
+  if (!std::isfinite(kn) || kn <= 0.0) {
+    return InvalidArgument("dem.stable_step.kn: must be finite and > 0 (got " + std::to_string(kn) +
+                           ")");
+  }
+  if (!std::isfinite(kt) || kt < 0.0) {
+    return InvalidArgument("dem.stable_step.kt: must be finite and >= 0 (got " +
+                           std::to_string(kt) + ")");
+  }
+  if (!(safety > 0.0 && safety <= 2.0)) {
+    return InvalidArgument("dem.stable_step.safety: must be in (0, 2] (got " +
+                           std::to_string(safety) + ")");
+  }
+  if (p.size() == 0) return InvalidArgument("dem.stable_step: no particles");
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    best = std::min(best, std::sqrt(p.mass[i] / kn));
+    if (kt > 0.0) {
+      const double r = p.radius[i];
+      best = std::min(best, std::sqrt(p.inertia[i] / (kt * r * r)));
+    }
+  }
+  return safety * best;
+}
+
+}  // namespace seep::core

@@ -1,0 +1,169 @@
+// JobRunner::RunCalibration: a calibration job from its stored seep.v1.Calibration to its records.
+//
+// No checkpoints: a calibration is a handful of steady solves per target (seconds), so a job
+// interrupted by a shutdown or a crash simply runs again from the start on the next seepd start
+// (or after ResumeJob), and RecordCalibrations replaces whatever an earlier run stored. The
+// records are stored before the job turns SUCCEEDED (as a simulation's series is), so a
+// SUCCEEDED calibration job always has them.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+
+#include "codec/calibration_codec.h"
+#include "jobs/job_runner.h"
+#include "jobs/wall_clock.h"
+#include "seep/core/calibration/calibration.h"
+#include "seep/v1/calibration.pb.h"
+
+namespace seep::service {
+namespace {
+
+// The job's progress after a solve: each target owns 1/total of the bar, and each solve within a
+// target covers half of what is left of its share (most targets converge in one to three solves,
+// and the bar never goes back). step = solves so far over the whole job.
+JobProgress CalibrationJobProgress(const core::CalibrationProgress& p, std::uint64_t solves) {
+  const double total = static_cast<double>(std::max<std::size_t>(p.target_count, 1));
+  const double within = 1.0 - std::pow(0.5, p.iteration);
+  return JobProgress::At(solves, 0.0, (static_cast<double>(p.target_index) + within) / total, 0.0);
+}
+
+// The job result: the sweep at a glance, per target under "<name>[i]".
+std::vector<std::pair<std::string, double>> CalibrationJobMetrics(
+    const std::vector<core::CalibrationRecord>& records) {
+  std::vector<std::pair<std::string, double>> m;
+  m.emplace_back("target_count", static_cast<double>(records.size()));
+  double worst = 0.0;
+  for (const core::CalibrationRecord& r : records) {
+    const std::size_t i = r.target_index;
+    m.emplace_back(fmt::format("target_permeability_m2[{}]", i), r.target_permeability_m2);
+    m.emplace_back(fmt::format("residual_aperture_m[{}]", i), r.residual_aperture_m);
+    m.emplace_back(fmt::format("permeability_m2[{}]", i), r.permeability_m2);
+    m.emplace_back(fmt::format("relative_error[{}]", i), r.relative_error);
+    m.emplace_back(fmt::format("iterations[{}]", i), r.iterations);
+    m.emplace_back(fmt::format("first_guess_relative_error[{}]", i), r.first_guess_relative_error);
+    worst = std::max(worst, r.relative_error);
+  }
+  m.emplace_back("max_relative_error", worst);
+  if (!records.empty()) {
+    const core::CalibrationPackingStats& p = records.front().packing;
+    m.emplace_back("particle_count", static_cast<double>(p.particle_count));
+    m.emplace_back("pipe_count", static_cast<double>(p.pipe_count));
+    m.emplace_back("porosity_2d", p.porosity_2d);
+    m.emplace_back("mean_radius_m", p.mean_radius_m);
+    m.emplace_back("coordination_number", p.coordination_number);
+  }
+  std::sort(m.begin(), m.end());
+  return m;
+}
+
+}  // namespace
+
+void JobRunner::RunCalibration(const JobRecord& job, Running& running,
+                               std::chrono::steady_clock::time_point wall_start,
+                               const std::shared_ptr<spdlog::logger>& log) {
+  core::Status outcome = core::Internal("calibration did not run");
+  std::vector<core::CalibrationRecord> records;
+  v1::Calibration calibration;
+  try {
+    if (!calibration.ParseFromString(job.scene)) {
+      outcome = core::DataLoss("stored calibration bytes do not parse as seep.v1.Calibration");
+    } else if (auto spec = CalibrationFromProto(calibration); !spec.ok()) {
+      outcome = spec.status();
+    } else {
+      std::uint64_t solves = 0;
+      auto last_store_write = std::chrono::steady_clock::now();
+      core::CalibrationControl control;
+      control.stop = running.stop.get_token();
+      control.logger = log;
+      control.on_progress = [&](const core::CalibrationProgress& p) {
+        ++solves;
+        const JobProgress progress = CalibrationJobProgress(p, solves);
+        hub_.Publish(job.id, progress);
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_store_write < options_.store_progress_interval) return;
+        last_store_write = now;
+        if (auto s = store_.UpdateProgress(job.id, running.epoch, progress); !s.ok()) {
+          if (s.code() == core::StatusCode::kAborted) {
+            log->warn("lease lost ({}); stopping", s.ToString());
+            running.lease_lost = true;
+            running.stop.request_stop();
+          } else {
+            log->warn("progress not stored: {}", s.ToString());
+          }
+        }
+      };
+      auto calibrated = core::CalibrateResidualAperture(*spec, control);
+      if (calibrated.ok()) {
+        records = std::move(*calibrated);
+        outcome = core::Status::Ok();
+      } else {
+        outcome = calibrated.status();
+      }
+    }
+  } catch (const std::exception& e) {
+    outcome = core::Internal(fmt::format("unexpected exception: {}", e.what()));
+  }
+  {
+    std::lock_guard lock(mutex_);
+    running_.erase(job.id);
+  }
+
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  const bool stopped =
+      outcome.code() == core::StatusCode::kCancelled && running.stop.stop_requested();
+  if (stopped && running.lease_lost) {
+    log->warn("stopped after losing its lease; nothing recorded by this worker");
+    return;
+  }
+  Status stored;
+  if (stopped && running.cancel) {
+    stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
+                           outcome.message(), {}, wall_s, NowMs());
+    log->info("calibration cancelled after {:.3f} s: {}", wall_s, outcome.message());
+  } else if (stopped) {
+    // Shutdown: the job stays RUNNING and the next start runs it again from the beginning.
+    log->info("calibration interrupted by shutdown after {:.3f} s; it runs again on restart",
+              wall_s);
+    AddEvent(job.id, "INTERRUPTED", "shutdown during a calibration (no checkpoints: reruns)");
+    return;
+  } else if (outcome.ok()) {
+    const std::string setup_sha = CalibrationSetupSha256(calibration);
+    const std::int64_t now_ms = NowMs();
+    std::vector<std::string> tags(calibration.tags().begin(), calibration.tags().end());
+    std::sort(tags.begin(), tags.end());
+    std::vector<StoredCalibration> rows;
+    rows.reserve(records.size());
+    for (const core::CalibrationRecord& r : records) {
+      rows.push_back({0, job.id, r, 0.0, setup_sha, options_.build_id, now_ms, tags});
+      rows.back().tolerance =
+          calibration.tolerance() == 0.0 ? kDefaultCalibrationTolerance : calibration.tolerance();
+    }
+    std::uint64_t solves = 0;
+    for (const core::CalibrationRecord& r : records)
+      solves += static_cast<std::uint64_t>(r.iterations);
+    if (auto s =
+            store_.UpdateProgress(job.id, running.epoch, JobProgress::At(solves, 0.0, 1.0, 0.0));
+        !s.ok()) {
+      log->warn("final progress not stored: {}", s.ToString());
+    }
+    stored = store_.RecordCalibrations(job.id, running.epoch, rows, tags);
+    if (stored.ok()) {
+      stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "",
+                             CalibrationJobMetrics(records), wall_s, NowMs());
+    }
+    log->info("calibration succeeded in {:.3f} s: {} target(s), {} permeameter solves", wall_s,
+              records.size(), solves);
+  } else {
+    stored =
+        store_.Finish(job.id, running.epoch, JobState::kFailed,
+                      core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
+    log->warn("calibration failed: {}", outcome.ToString());
+  }
+  if (!stored.ok()) log->error("could not record the outcome: {}", stored.ToString());
+}
+
+}  // namespace seep::service

@@ -1,0 +1,89 @@
+// Stable step estimate, particle builder, periodic contacts across the boundary, sorted contact
+// keys, and the work counters of pieces a scene does not use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "dem_test_util.h"
+
+namespace seep::core {
+namespace {
+
+using dem_test::MakeContacts;
+using dem_test::MakeDisks;
+
+TEST(DemParticles, MassAndInertiaOfADisk) {
+  DemParticles p = MakeDisks({{0.0, 0.0, 0.5}}, 2.0);
+  EXPECT_DOUBLE_EQ(p.mass[0], 2.0 * std::numbers::pi * 0.25);
+  EXPECT_DOUBLE_EQ(p.inertia[0], 0.5 * p.mass[0] * 0.25);
+  EXPECT_FALSE(MakeDemParticles(Packing{}, -1.0).ok());
+}
+
+TEST(DemStableStep, KnownMassAndStiffness) {
+  DemParticles p = MakeDisks({{0.0, 0.0, 0.5}, {5.0, 0.0, 1.0}}, 1.0);
+  const double m = std::numbers::pi * 0.25;  // the lighter disk decides
+  // Translation only (kt = 0): dt = safety sqrt(m / kn).
+  Result<double> dt = EstimateStableTimeStep(p, 1.0e4, 0.0, 0.5);
+  ASSERT_TRUE(dt.ok());
+  EXPECT_DOUBLE_EQ(*dt, 0.5 * std::sqrt(m / 1.0e4));
+  // With kt = kn the rotational term sqrt(I / (kt R^2)) = sqrt(m / (2 kt)) is smaller.
+  dt = EstimateStableTimeStep(p, 1.0e4, 1.0e4, 0.5);
+  ASSERT_TRUE(dt.ok());
+  EXPECT_DOUBLE_EQ(*dt, 0.5 * std::sqrt(0.5 * m * 0.25 / (1.0e4 * 0.25)));
+  EXPECT_FALSE(EstimateStableTimeStep(p, 0.0, 0.0, 0.5).ok());
+}
+
+TEST(DemContacts, PeriodicPairAcrossTheBoundaryPushesApart) {
+  // Disks at x = 0.3 and x = 9.8 in [0, 10): 0.5 apart through the boundary, radii 0.3 each,
+  // so they overlap by 0.1 and the force is kn * 0.1 along x, pushing 0 right and 1 left.
+  DemParticles p = MakeDisks({{0.3, 0.0, 0.3}, {9.8, 0.0, 0.3}}, 1.0);
+  DemContactSettings settings;
+  settings.law.kn = 1000.0;
+  settings.skin = 0.1;
+  settings.periodic_x = true;
+  settings.lx = 10.0;
+  DemContactForces contacts = MakeContacts(settings);
+  DemCounters counters;
+  p.ClearForces();
+  ASSERT_TRUE(contacts.AddForces(&p, {}, 1e-4, &counters).ok());
+  EXPECT_NEAR(p.fx[0], 100.0, 1e-9);
+  EXPECT_NEAR(p.fx[1], -100.0, 1e-9);
+  std::vector<DemContactRecord> records;
+  contacts.CollectContacts(&records);
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_NEAR(records[0].gap, -0.1, 1e-12);
+  EXPECT_NEAR(records[0].normal_force, 100.0, 1e-9);
+}
+
+TEST(DemContacts, ContactsAreSortedAndCountersOfAbsentPiecesStayZero) {
+  DemParticles p = MakeDisks({{1.9, 0.5, 0.5}, {0.0, 0.5, 0.5}, {0.95, 0.5, 0.5}}, 1.0);
+  DemContactSettings settings;
+  settings.law.kn = 1000.0;
+  settings.skin = 0.1;
+  DemContactForces contacts = MakeContacts(settings);
+  std::vector<DemWall> walls;
+  DemStepOptions options;  // no gravity, no local damping
+  options.dt = 1e-4;
+  DemCounters counters;
+  ASSERT_TRUE(ComputeDemForces(&p, walls, &contacts, options, &counters).ok());
+  ASSERT_TRUE(DemStep(&p, &walls, &contacts, options, &counters).ok());
+  std::vector<DemContactRecord> records;
+  contacts.CollectContacts(&records);
+  ASSERT_EQ(records.size(), 2u);  // (0, 2) and (1, 2), in key order
+  EXPECT_EQ(records[0].i, 0);
+  EXPECT_EQ(records[0].j, 2);
+  EXPECT_EQ(records[1].i, 1);
+  EXPECT_EQ(records[1].j, 2);
+  EXPECT_EQ(counters.neighbour_rebuilds, 1u);
+  EXPECT_EQ(counters.pair_evaluations, 4u);  // 2 contacts x 2 force passes
+  EXPECT_EQ(counters.gravity_applications, 0u);
+  EXPECT_EQ(counters.local_damping_applications, 0u);
+  EXPECT_EQ(counters.bond_evaluations, 0u);
+  EXPECT_EQ(counters.wall_checks, 0u);
+  EXPECT_EQ(counters.servo_updates, 0u);
+}
+
+}  // namespace
+}  // namespace seep::core

@@ -1,0 +1,34 @@
+// Small builders shared by the DEM tests: disks from a list, a contact model, a stepping loop.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <vector>
+
+#include "seep/core/dem/dem_contacts.h"
+#include "seep/core/dem/dem_particles.h"
+#include "seep/core/dem/dem_step.h"
+#include "seep/core/geometry/packing.h"
+
+namespace seep::core::dem_test {
+
+struct Disk {
+  double x, y, r;
+};
+
+inline DemParticles MakeDisks(std::initializer_list<Disk> disks, double density) {
+  Packing packing;
+  for (const Disk& d : disks) packing.Add(d.x, d.y, d.r);
+  Result<DemParticles> p = MakeDemParticles(packing, density);
+  EXPECT_TRUE(p.ok()) << p.status().ToString();
+  return std::move(p).value();
+}
+
+inline DemContactForces MakeContacts(const DemContactSettings& settings) {
+  Result<DemContactForces> c = DemContactForces::Create(settings);
+  EXPECT_TRUE(c.ok()) << c.status().ToString();
+  return std::move(c).value();
+}
+
+}  // namespace seep::core::dem_test
