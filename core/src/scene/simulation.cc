@@ -29,6 +29,12 @@ double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node) {
   return fluxes.inflow[static_cast<std::size_t>(it - fluxes.domain.begin())];
 }
 
+// The rate into fixed-pressure node `node` out of the sample; 0 - x rather than -x, so that no
+// flow reads 0 and not -0.
+double NodeOutflow(const BoundaryFluxes& fluxes, std::int32_t node) {
+  return 0.0 - NodeInflow(fluxes, node);
+}
+
 void AddPressureRange(const FlowNetwork& network, Metrics& m) {
   const PressureRange range = ComputePressureRange(network);
   m["min_pressure_pa"] = range.min;
@@ -54,7 +60,7 @@ std::optional<double> LatticePermeability(const SceneSpec& scene) {
 void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m) {
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
   const double inflow = NodeInflow(fluxes, net.inlet_node);
-  const double outflow = -NodeInflow(fluxes, net.outlet_node);
+  const double outflow = NodeOutflow(fluxes, net.outlet_node);
   m["inflow_m2_per_s"] = inflow;
   m["outflow_m2_per_s"] = outflow;
   const double dp = scene.boundary.inlet_pressure_pa - scene.boundary.outlet_pressure_pa;
@@ -74,7 +80,7 @@ void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m
 void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
   m["well_flow_rate_m2_per_s"] = NodeInflow(fluxes, net.well_domain);
-  m["outer_flow_rate_m2_per_s"] = -NodeInflow(fluxes, net.outer_node);
+  m["outer_flow_rate_m2_per_s"] = NodeOutflow(fluxes, net.outer_node);
   m["outer_reservoir_radius_m"] = net.outer_reservoir_radius_m;
   m["well_area_m2"] = net.domains.apparent_volume[static_cast<std::size_t>(net.well_domain)];
   AddPressureRange(net.flow, m);
@@ -166,10 +172,10 @@ void Simulation::Sample(double step_mass_balance_error) {
   double second = 0.0;
   if (scene_.boundary.radial) {
     first = NodeInflow(fluxes, net_.well_domain);
-    second = -NodeInflow(fluxes, net_.outer_node);
+    second = NodeOutflow(fluxes, net_.outer_node);
   } else {
     first = NodeInflow(fluxes, net_.inlet_node);
-    second = -NodeInflow(fluxes, net_.outlet_node);
+    second = NodeOutflow(fluxes, net_.outlet_node);
   }
   series_.values.insert(series_.values.end(),
                         {time_s_, first, second, range.min, range.max, step_mass_balance_error});
