@@ -10,6 +10,7 @@
 
 #include "problem_constants.h"
 #include "seep/core/scene/analytic_solutions.h"
+#include "seep/core/scene/radial_profile.h"
 #include "timed_scene.h"
 
 namespace seep::bench {
@@ -62,53 +63,18 @@ ThiemErrors CompareWithThiem(const core::Simulation& sim) {
   const double r_e = net.outer_reservoir_radius_m;
   const double r_min = 3.0 * net.mean_radius_m + kWellRadiusInR * kRadius;
   const double r_max = 0.8 * r_e;
-  const auto pressure = net.flow.pressure();
-  std::vector<double> ln_r;
-  std::vector<double> p;
-  for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
-    if (static_cast<std::int32_t>(d) == net.well_domain) continue;
-    const double r = std::hypot(net.domains.centroid_x[d] - net.well_x_m,
-                                net.domains.centroid_y[d] - net.well_y_m);
-    if (r <= r_min || r >= r_max) continue;
-    ln_r.push_back(std::log(r));
-    p.push_back(pressure[d]);
-  }
   ThiemErrors out;
   out.domains = static_cast<std::int64_t>(net.domains.num_domains()) - 1;
-  const double n = static_cast<double>(p.size());
-  double mx = 0.0;
-  double mp = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    mx += ln_r[i] / n;
-    mp += p[i] / n;
+  const auto fit = core::FitRadialProfile(net, r_min, r_max);
+  if (!fit.ok()) {
+    out.ring = out.rate = std::numeric_limits<double>::quiet_NaN();
+    return out;
   }
-  double sxx = 0.0;
-  double sxp = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    sxx += (ln_r[i] - mx) * (ln_r[i] - mx);
-    sxp += (ln_r[i] - mx) * (p[i] - mp);
-  }
-  const double slope = sxp / sxx;
-  const double intercept = mp - slope * mx;
-  out.r_w_eff = std::exp((kWellPressure - intercept) / slope);
-
-  const double ring_width = 2.0 * net.mean_radius_m;
-  const auto rings = static_cast<std::size_t>(std::ceil((r_max - r_min) / ring_width));
-  std::vector<double> ring_p(rings, 0.0);
-  std::vector<double> ring_log_r(rings, 0.0);
-  std::vector<double> ring_count(rings, 0.0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto ring =
-        std::min(rings - 1, static_cast<std::size_t>((std::exp(ln_r[i]) - r_min) / ring_width));
-    ring_p[ring] += p[i];
-    ring_log_r[ring] += ln_r[i];
-    ring_count[ring] += 1.0;
-  }
-  for (std::size_t g = 0; g < rings; ++g) {
-    if (ring_count[g] == 0.0) continue;
-    const double exact = core::ThiemPressure(std::exp(ring_log_r[g] / ring_count[g]), out.r_w_eff,
-                                             r_e, kWellPressure, 0.0);
-    out.ring = std::max(out.ring, std::abs(ring_p[g] / ring_count[g] - exact) / kWellPressure);
+  out.r_w_eff = fit->EffectiveWellRadius(kWellPressure);
+  for (const core::RingMean& ring : core::RingMeans(*fit, r_min, r_max, 2.0 * net.mean_radius_m)) {
+    const double exact =
+        core::ThiemPressure(std::exp(ring.ln_r), out.r_w_eff, r_e, kWellPressure, 0.0);
+    out.ring = std::max(out.ring, std::abs(ring.pressure - exact) / kWellPressure);
   }
   const double q_thiem = core::ThiemFlowRate(k, kViscosity, out.r_w_eff, r_e, kWellPressure, 0.0);
   out.rate = std::abs(q - q_thiem) / q_thiem;

@@ -16,6 +16,7 @@
 #include "scene_test_util.h"
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/flow/steady_state_solver.h"
+#include "seep/core/scene/radial_profile.h"
 #include "seep/core/scene/run_scene.h"
 #include "seep/core/scene/scene_network.h"
 
@@ -58,58 +59,23 @@ ThiemResult CompareWithThiem(const SceneSpec& scene, double k) {
   // Window 3 R < r < 0.8 r_e, outside the well domain; least squares p = A + B ln r.
   const double r_min = 3.0 * net->mean_radius_m + scene.boundary.radial->well_radius_m;
   const double r_max = 0.8 * out.r_e;
-  const auto pressure = net->flow.pressure();
-  std::vector<double> ln_r;
-  std::vector<double> p;
-  for (std::size_t d = 0; d < net->domains.num_domains(); ++d) {
-    if (static_cast<std::int32_t>(d) == net->well_domain) continue;
-    const double r = std::hypot(net->domains.centroid_x[d] - net->well_x_m,
-                                net->domains.centroid_y[d] - net->well_y_m);
-    if (r <= r_min || r >= r_max) continue;
-    ln_r.push_back(std::log(r));
-    p.push_back(pressure[d]);
-  }
-  out.window_domains = static_cast<int>(p.size());
-  const double n = static_cast<double>(p.size());
-  double mx = 0.0;
-  double mp = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    mx += ln_r[i] / n;
-    mp += p[i] / n;
-  }
-  double sxx = 0.0;
-  double sxp = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    sxx += (ln_r[i] - mx) * (ln_r[i] - mx);
-    sxp += (ln_r[i] - mx) * (p[i] - mp);
-  }
-  const double slope = sxp / sxx;
-  const double intercept = mp - slope * mx;
-  out.r_w_eff = std::exp((kWellPressure - intercept) / slope);
+  auto fit = FitRadialProfile(*net, r_min, r_max);
+  EXPECT_TRUE(fit.ok()) << fit.status().ToString();
+  if (!fit.ok()) return out;
+  out.window_domains = static_cast<int>(fit->ln_r.size());
+  out.r_w_eff = fit->EffectiveWellRadius(kWellPressure);
 
   const double dp = kWellPressure - kOuterPressure;
   const double log_ratio = std::log(out.r_e / out.r_w_eff);
   auto thiem = [&](double log_r) {
     return kWellPressure - dp * (log_r - std::log(out.r_w_eff)) / log_ratio;
   };
-  const double ring_width = 2.0 * net->mean_radius_m;
-  const auto rings = static_cast<std::size_t>(std::ceil((r_max - r_min) / ring_width));
-  std::vector<double> ring_p(rings, 0.0);
-  std::vector<double> ring_log_r(rings, 0.0);
-  std::vector<double> ring_count(rings, 0.0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    out.profile_error = std::max(out.profile_error, std::abs(p[i] - thiem(ln_r[i])) / dp);
-    const auto ring =
-        std::min(rings - 1, static_cast<std::size_t>((std::exp(ln_r[i]) - r_min) / ring_width));
-    ring_p[ring] += p[i];
-    ring_log_r[ring] += ln_r[i];
-    ring_count[ring] += 1.0;
+  for (std::size_t i = 0; i < fit->ln_r.size(); ++i) {
+    out.profile_error =
+        std::max(out.profile_error, std::abs(fit->pressure[i] - thiem(fit->ln_r[i])) / dp);
   }
-  for (std::size_t g = 0; g < rings; ++g) {
-    if (ring_count[g] == 0.0) continue;
-    const double mean_p = ring_p[g] / ring_count[g];
-    const double mean_log_r = ring_log_r[g] / ring_count[g];
-    out.ring_error = std::max(out.ring_error, std::abs(mean_p - thiem(mean_log_r)) / dp);
+  for (const RingMean& ring : RingMeans(*fit, r_min, r_max, 2.0 * net->mean_radius_m)) {
+    out.ring_error = std::max(out.ring_error, std::abs(ring.pressure - thiem(ring.ln_r)) / dp);
   }
   const double q_thiem = 2.0 * std::numbers::pi * k * dp / (kViscosity * log_ratio);
   out.q_error = std::abs(q - q_thiem) / q_thiem;
