@@ -90,9 +90,10 @@ bool ParseTime(const std::string& text, const char* flag, google::protobuf::Time
 int Calibrate(const GlobalOptions& global, const CalibrateOptions& options) {
   v1::SubmitJobRequest request;
   v1::Calibration* calibration = request.mutable_calibration();
-  if (const std::string error = LoadMessageFile(options.file, calibration, "calibration");
+  MessageFile file;
+  if (const std::string error = file.Load(options.file, calibration, "calibration");
       !error.empty()) {
-    std::fprintf(stderr, "seep: calibrate: %s\n", error.c_str());
+    std::fprintf(stderr, "%s\n", error.c_str());  // FILE:LINE:COL first, as compilers print it
     return kBadInput;
   }
   if (!options.name.empty()) calibration->set_name(options.name);
@@ -105,15 +106,23 @@ int Calibrate(const GlobalOptions& global, const CalibrateOptions& options) {
   PrepareUnaryCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
+    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
+      // "calibration.target_permeabilities_m2[3]: ..." gets the file and the line of that field.
+      std::fprintf(stderr, "%s\n", file.PointAt(status.error_message(), "calibration").c_str());
+      return kBadInput;
+    }
     return ReportCallError(global, "calibrate", status);
   }
+  const std::string submitted =
+      fmt::format("submitted calibration job {} ({}, {} target(s), request id {})",
+                  response.job().id(), response.created() ? "new" : "already submitted",
+                  calibration->target_permeabilities_m2_size(), request.request_id());
   if (global.json && !options.watch) {
     std::cout << MessageToJson(response.job());
+  } else if (global.json) {
+    std::cerr << submitted << std::endl;  // stdout stays one JSON document
   } else {
-    std::cout << fmt::format("submitted calibration job {} ({}, {} target(s), request id {})",
-                             response.job().id(), response.created() ? "new" : "already submitted",
-                             calibration->target_permeabilities_m2_size(), request.request_id())
-              << std::endl;
+    std::cout << submitted << std::endl;
   }
   return options.watch ? Watch(global, response.job().id()) : 0;
 }

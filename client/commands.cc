@@ -1,8 +1,10 @@
 #include "commands.h"
 
 #include <fmt/format.h>
+#include <google/protobuf/struct.pb.h>
 #include <google/protobuf/util/json_util.h>
 #include <grpcpp/grpcpp.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -12,6 +14,7 @@
 #include <iostream>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "call_support.h"
 #include "grpc/health/v1/health.grpc.pb.h"
@@ -45,6 +48,13 @@ void PrepareCall(const GlobalOptions& global, grpc::ClientContext* ctx) {
   ctx->set_deadline(std::chrono::system_clock::now() +
                     std::chrono::milliseconds(static_cast<long>(global.timeout_s * 1000)));
   AddToken(global, ctx);
+}
+
+// Width of the terminal on stdout; 80 when it cannot be told.
+int TerminalColumns() {
+  winsize size{};
+  if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) return size.ws_col;
+  return 80;
 }
 
 std::string Trim(const std::string& s) {
@@ -154,9 +164,11 @@ std::string NewRequestId() {
 
 int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   v1::SubmitJobRequest request;
-  if (const std::string error = LoadSceneFile(options.scene_file, request.mutable_scene());
+  MessageFile file;
+  if (const std::string error = file.Load(options.scene_file, request.mutable_scene(), "scene");
       !error.empty()) {
-    std::fprintf(stderr, "seep: submit: %s\n", error.c_str());
+    // "FILE:LINE:COL: ..." first on the line, as compilers print it, so editors can jump there.
+    std::fprintf(stderr, "%s\n", error.c_str());
     return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
   }
   if (!options.name.empty()) request.mutable_scene()->set_name(options.name);
@@ -167,14 +179,23 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   PrepareCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
+    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
+      // The server names the field ("scene.fluid.viscosity_pa_s: ..."): add the file and line.
+      std::fprintf(stderr, "%s\n", file.PointAt(status.error_message(), "scene").c_str());
+      return static_cast<int>(status.error_code());
+    }
     return ReportRpcError(global, "submit", status);
   }
+  const std::string submitted =
+      fmt::format("submitted job {} ({}, request id {})", response.job().id(),
+                  response.created() ? "new" : "already submitted", request.request_id());
   if (global.json && !options.watch) {
     std::cout << ToJson(response.job());
+  } else if (global.json) {
+    // stdout stays one JSON document (the finished job); the id still reaches the user.
+    std::cerr << submitted << std::endl;
   } else {
-    std::cout << fmt::format("submitted job {} ({}, request id {})", response.job().id(),
-                             response.created() ? "new" : "already submitted", request.request_id())
-              << std::endl;
+    std::cout << submitted << std::endl;
   }
   return options.watch ? Watch(global, response.job().id()) : 0;
 }
@@ -190,26 +211,48 @@ int Watch(const GlobalOptions& global, const std::string& job_id) {
   v1::JobEvent event;
   v1::Job last;
   std::string last_line;
+  v1::JobState last_state = v1::JOB_STATE_UNSPECIFIED;
+  auto last_print = std::chrono::steady_clock::now() - std::chrono::hours(1);
   while (reader->Read(&event)) {
     last = event.job();
     if (global.json) continue;
-    const std::string line = FormatProgress(last);
-    if (line == last_line) continue;
-    last_line = line;
+    const auto now = std::chrono::steady_clock::now();
     if (tty) {
+      // Redrawn in place at most ten times a second: a terminal shows the newest state anyway.
+      if (last.state() == last_state && now - last_print < std::chrono::milliseconds(100)) continue;
+      const std::string line = FormatProgressBar(last, TerminalColumns());
+      if (line == last_line) continue;
       std::cout << "\r\033[K" << line << std::flush;
+      last_line = line;
     } else {
+      // Logs and pipes get whole lines: one per state change and at most one a second between.
+      const std::string line = FormatProgress(last);
+      if (line == last_line) continue;
+      if (last.state() == last_state && now - last_print < std::chrono::seconds(1)) continue;
       std::cout << line << "\n" << std::flush;
+      last_line = line;
+    }
+    last_state = last.state();
+    last_print = now;
+  }
+  if (!global.json && !last_line.empty()) {
+    // The final state is always shown, even when it came inside a throttled interval.
+    const std::string line =
+        tty ? FormatProgressBar(last, TerminalColumns()) : FormatProgress(last);
+    if (tty) {
+      std::cout << (line == last_line ? std::string() : "\r\033[K" + line) << "\n";
+    } else if (line != last_line) {
+      std::cout << line << "\n";
     }
   }
-  if (tty && !global.json) std::cout << "\n";
   if (auto status = reader->Finish(); !status.ok()) return ReportRpcError(global, "watch", status);
   if (!IsTerminal(last.state())) {
     std::fprintf(stderr, "seep: watch: stream ended before job %s finished\n", job_id.c_str());
     return static_cast<int>(grpc::StatusCode::UNAVAILABLE);
   }
   // The stream leaves out the scene and may lag the final write: read the job once more.
-  return Show(global, job_id) == 0 ? ExitCodeFor(last) : 1;
+  if (const int shown = Show(global, job_id); shown != 0) return shown;
+  return ExitCodeFor(last);
 }
 
 int Show(const GlobalOptions& global, const std::string& job_id) {
@@ -359,7 +402,6 @@ int Health(const GlobalOptions& global) {
   }
   const std::string serving =
       grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status());
-  std::cout << "status   " << serving << "\n";
 
   // Which services the server offers, through gRPC server reflection (v1alpha in gRPC 1.51).
   auto reflection = grpc::reflection::v1alpha::ServerReflection::NewStub(channel);
@@ -369,13 +411,24 @@ int Health(const GlobalOptions& global) {
   grpc::reflection::v1alpha::ServerReflectionRequest list;
   list.set_list_services("");
   grpc::reflection::v1alpha::ServerReflectionResponse listed;
+  std::vector<std::string> services;
   if (stream->Write(list) && stream->WritesDone() && stream->Read(&listed)) {
-    for (const auto& s : listed.list_services_response().service()) {
-      std::cout << "service  " << s.name() << "\n";
-    }
+    for (const auto& s : listed.list_services_response().service()) services.push_back(s.name());
   }
   if (auto status = stream->Finish(); !status.ok()) {
     return ReportRpcError(global, "health (reflection)", status);
+  }
+  if (global.json) {
+    // {"server": ..., "status": "SERVING", "services": [...]}: a Struct, printed by protobuf.
+    google::protobuf::Struct out;
+    (*out.mutable_fields())["server"].set_string_value(global.server);
+    (*out.mutable_fields())["status"].set_string_value(serving);
+    auto* names = (*out.mutable_fields())["services"].mutable_list_value();
+    for (const std::string& name : services) names->add_values()->set_string_value(name);
+    std::cout << ToJson(out);
+  } else {
+    std::cout << "status   " << serving << "\n";
+    for (const std::string& name : services) std::cout << "service  " << name << "\n";
   }
   return response.status() == grpc::health::v1::HealthCheckResponse::SERVING
              ? 0

@@ -1,6 +1,7 @@
 // The seep CLI's commands. Each returns the process exit code:
 //   0 success; 1..16 the gRPC status code of a failed call (3 = bad input, 5 = no such job,
-//   14 = server unreachable); 20 the watched job FAILED; 21 it was CANCELLED.
+//   14 = server unreachable); 20 the watched job FAILED; 21 it was CANCELLED; 64 a wrong command
+//   line (kExitCodeHelp below is the table `seep --help` prints).
 #pragma once
 
 #include <string>
@@ -10,6 +11,24 @@ namespace seep::client {
 
 inline constexpr int kExitJobFailed = 20;
 inline constexpr int kExitJobCancelled = 21;
+inline constexpr int kExitUsage = 64;  // EX_USAGE of sysexits.h: outside the gRPC codes 0..16
+
+inline constexpr const char* kExitCodeHelp =
+    "Exit codes:\n"
+    "  0   success (watch: the job SUCCEEDED)\n"
+    "  3   bad input: a scene file that does not parse (FILE:LINE:COL) or that the server\n"
+    "      rejects (FILE:LINE: scene.<field>: reason), a bad flag value\n"
+    "  5   no such job\n"
+    "  6   the request id was already used for another scene\n"
+    "  9   the job is in the wrong state for the command (e.g. resume a running job)\n"
+    "  14  server unreachable (or the call timed out: --timeout)\n"
+    "  16  missing or wrong token\n"
+    "  1-16 any other gRPC status code of the failed call\n"
+    "  20  the watched job FAILED\n"
+    "  21  the watched job was CANCELLED\n"
+    "  64  wrong command line (unknown option, missing argument)\n"
+    "With --json, stdout holds one JSON document (messages go to stderr).\n"
+    "Environment: SEEP_SERVER (--server), SEEP_TOKEN (--token).";
 
 struct GlobalOptions {
   std::string server = "127.0.0.1:50051";

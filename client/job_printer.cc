@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <google/protobuf/util/time_util.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace seep::client {
@@ -86,6 +88,49 @@ std::string FormatProgress(const v1::Job& job) {
     if (const auto it = p.latest().find(key); it != p.latest().end()) {
       line += fmt::format("  {} {:.4g}", key, it->second);
     }
+  }
+  return line;
+}
+
+std::string FormatDuration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0.0) return "?";
+  if (seconds < 60.0) return fmt::format("{:.0f} s", std::max(seconds, 1.0));
+  const auto whole = static_cast<long long>(std::llround(seconds));
+  if (whole < 3600) return fmt::format("{}m{:02}s", whole / 60, whole % 60);
+  return fmt::format("{}h{:02}m", whole / 3600, (whole % 3600) / 60);
+}
+
+std::string FormatProgressBar(const v1::Job& job, int columns) {
+  const auto& p = job.progress();
+  const double fraction = std::clamp(p.fraction_done(), 0.0, 1.0);
+  constexpr int kBarWidth = 24;
+  const int filled = static_cast<int>(std::floor(fraction * kBarWidth));
+  std::string line =
+      fmt::format("{:<9} [{}{}] {:5.1f}%", StateName(job.state()),
+                  std::string(static_cast<std::size_t>(filled), '#'),
+                  std::string(static_cast<std::size_t>(kBarWidth - filled), '.'), 100.0 * fraction);
+  if (job.kind() == v1::JOB_KIND_CALIBRATION) {
+    line += fmt::format("  solves {}", p.step());
+  } else {
+    line += fmt::format("  step {}  t = {:.4g} s", p.step(), p.time_s());
+  }
+  if (p.eta_s() > 0.0 && job.state() == v1::JOB_STATE_RUNNING) {
+    line += "  ETA " + FormatDuration(p.eta_s());
+  }
+  // Short names: the bar has one line for everything.
+  static constexpr std::pair<const char*, const char*> kKeyMetrics[] = {
+      {"inflow_m2_per_s", "q_in"},
+      {"outflow_m2_per_s", "q_out"},
+      {"well_flow_rate_m2_per_s", "q_well"},
+      {"max_pressure_pa", "p_max"},
+      {"mass_balance_error", "mass_err"}};
+  for (const auto& [key, label] : kKeyMetrics) {
+    if (const auto it = p.latest().find(key); it != p.latest().end()) {
+      line += fmt::format("  {} {:.3g}", label, it->second);
+    }
+  }
+  if (columns > 1 && static_cast<int>(line.size()) >= columns) {
+    line.resize(static_cast<std::size_t>(columns - 1));
   }
   return line;
 }

@@ -4,12 +4,14 @@
 
 #include "calibration_commands.h"
 #include "commands.h"
+#include "field_commands.h"
 
 int main(int argc, char** argv) {
   using namespace seep::client;  // NOLINT(google-build-using-namespace)
   GlobalOptions global;
   CLI::App app{"seep: submit and follow seepage simulations on a seepd server"};
   app.require_subcommand(1);
+  app.footer(kExitCodeHelp);
   app.fallthrough();  // global options may also follow the subcommand: seep result <id> --json
   app.add_option("--server", global.server, "seepd address")
       ->envname("SEEP_SERVER")
@@ -17,7 +19,9 @@ int main(int argc, char** argv) {
   app.add_option("--timeout", global.timeout_s, "seconds to wait for each call")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_flag("--json", global.json, "print machine-readable JSON");
+  app.add_flag("--json", global.json,
+               "print machine-readable JSON on stdout (submit, show, list, result, watch, cancel, "
+               "resume, health, calibrate, calibrations)");
   app.add_option("--token", global.token,
                  "bearer token for a seepd started with a token (visible in ps: prefer "
                  "SEEP_TOKEN or --token-file)")
@@ -107,8 +111,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 100u))
       ->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  const FieldCommands field_commands = AddFieldCommands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; a wrong command line gets one code scripts can tell apart
+    // from the gRPC codes (CLI11's own codes vary by error kind).
+    const int printed = app.exit(e);
+    return printed == 0 ? 0 : kExitUsage;
+  }
   if (const int bad = LoadCredentials(&global); bad != 0) return bad;
+  if (const int rc = RunFieldCommands(global, field_commands); rc >= 0) return rc;
   if (*submit_cmd) return Submit(global, submit);
   if (*watch_cmd) return Watch(global, job_id);
   if (*show_cmd) return Show(global, job_id);

@@ -8,6 +8,8 @@ packages=(
   libgrpc++-dev libgrpc-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler grpc-proto
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev libsuitesparse-dev libopenblas-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev openssl
+  python3-vtk9  # tests: exported .vtu/.vtp files load in VTK's own readers
+  python3-grpcio python3-protobuf  # tests: a Python gRPC client (stubs made by protoc) drives seepd
 )
 
 sudo_cmd=()

@@ -12,7 +12,7 @@ namespace seep::bench {
 
 struct AccuracyRun {
   std::string problem;           // e.g. "diffusion_T0.2", "darcy", "thiem", "terzaghi"
-  std::string solver;            // "explicit", "implicit", "steady" or "pending"
+  std::string solver;            // "explicit", "implicit" (BE), "cn", "steady" or "pending"
   std::string storage;           // "apparent", "pore" or "-" (steady)
   double dt_over_dt_crit = 0.0;  // 0 for steady
   int resolution = 0;            // domains along the sample (radially: across the annulus)
@@ -27,6 +27,9 @@ struct AccuracyRun {
   bool pending = false;  // a problem listed but not run (no numbers)
 };
 
+// Crank–Nicolson (ImplicitSolver at theta = 1/2, driven directly: theta_run.h).
+inline constexpr const char* kCrankNicolsonLabel = "cn";
+
 // Short labels for the CSV and the table.
 inline std::string SolverLabel(core::SolverKind kind) {
   switch (kind) {
@@ -34,6 +37,8 @@ inline std::string SolverLabel(core::SolverKind kind) {
       return "explicit";
     case core::SolverKind::kImplicit:
       return "implicit";
+    case core::SolverKind::kCrankNicolson:
+      return kCrankNicolsonLabel;
     case core::SolverKind::kSteady:
     default:
       return "steady";

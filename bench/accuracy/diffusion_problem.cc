@@ -7,10 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 
 #include "problem_constants.h"
 #include "seep/core/scene/analytic_solutions.h"
 #include "seep/core/scene/scene_network.h"
+#include "theta_run.h"
 #include "timed_scene.h"
 
 namespace seep::bench {
@@ -91,8 +93,7 @@ core::Result<StripGeometry> MeasureStrip(const SceneSpec& scene) {
   return g;
 }
 
-double ProbeError(const core::Simulation& sim, const StripGeometry& g, double T) {
-  const auto p = sim.network().flow.pressure();
+double ProbeError(std::span<const double> p, const StripGeometry& g, double T) {
   double worst = 0.0;
   for (std::size_t k = 0; k < g.probe_domains.size(); ++k) {
     const double exact = core::DiffusionDirichletDirichlet(kProbes[k], T);
@@ -134,6 +135,12 @@ DiffusionGrid DefaultDiffusionGrid(bool full) {
   g.explicit_dt_factors = {0.99, 0.9, 0.5, 0.25};
   g.implicit_dt_factors = {1, 3, 10, 30, 100, 300, 1000, 3000};
   if (full) g.implicit_dt_factors.push_back(10000);
+  g.cn_dt_factors = g.implicit_dt_factors;
+  for (const double f : {10000.0, 30000.0}) {
+    if (std::find(g.cn_dt_factors.begin(), g.cn_dt_factors.end(), f) == g.cn_dt_factors.end()) {
+      g.cn_dt_factors.push_back(f);
+    }
+  }
   return g;
 }
 
@@ -142,11 +149,15 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
     SolverKind kind;
     StorageVolumeKind storage;
     const std::vector<double>* factors;
+    // > 0: run ImplicitSolver at this theta directly (theta_run.h), for Crank–Nicolson, which a
+    // SceneSpec cannot select; 0: the scene path (Simulation).
+    double theta = 0.0;
   };
   const Choice choices[] = {
       {SolverKind::kExplicit, StorageVolumeKind::kApparent, &grid.explicit_dt_factors},
       {SolverKind::kExplicit, StorageVolumeKind::kPore, &grid.explicit_dt_factors},
       {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.implicit_dt_factors},
+      {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.cn_dt_factors, 0.5},
   };
   for (const int cells : grid.cells) {
     const auto geometry = MeasureStrip(StripScene(cells, grid.bulk_moduli_pa.front()));
@@ -168,24 +179,41 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
             scene.solver.storage = choice.storage;
             scene.solver.dt_factor = factor;
             scene.solver.end_time_s = T * geometry->length_m * geometry->length_m / c;
+            const std::string label =
+                choice.theta > 0.0 ? kCrankNicolsonLabel : SolverLabel(choice.kind);
             const bool paper = choice.kind == SolverKind::kExplicit &&
                                choice.storage == StorageVolumeKind::kApparent && factor == 0.9 &&
                                kf == grid.bulk_moduli_pa.front();
             if (!paper && ExpectedCost(scene, geometry->domains) > grid.max_cost) {
               std::fprintf(stderr, "diffusion: skipped %s %s %g dt_crit at %d cells (cost cap)\n",
-                           SolverLabel(choice.kind).c_str(), StorageLabel(scene.solver).c_str(),
-                           factor, cells);
+                           label.c_str(), StorageLabel(scene.solver).c_str(), factor, cells);
               continue;
             }
             AccuracyRun row;
             row.problem = DiffusionProblemName(T);
-            row.solver = SolverLabel(choice.kind);
+            row.solver = label;
             row.storage = StorageLabel(scene.solver);
             row.dt_over_dt_crit = factor;
             row.resolution = cells - 1;
             row.domains = geometry->domains;
             row.bulk_modulus_pa = kf;
             row.error_kind = "max|p/p1 - series| at x/L=.25/.5/.75";
+            if (choice.theta > 0.0) {
+              const auto timed = RunThetaTimed(scene, choice.theta);
+              if (!timed.ok()) {
+                row.error = std::numeric_limits<double>::quiet_NaN();
+                row.note = timed.status().ToString();
+                rows.push_back(row);
+                continue;
+              }
+              row.steps = timed->steps;
+              row.wall_s = timed->wall_s;
+              row.setup_s = timed->setup_s;
+              row.error = ProbeError(timed->pressure, *geometry, T);
+              row.note = "theta 0.5 run directly";
+              rows.push_back(row);
+              continue;
+            }
             const auto timed = RunTimed(scene);
             if (!timed.ok()) {
               row.error = std::numeric_limits<double>::quiet_NaN();
@@ -196,7 +224,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
             row.steps = timed->simulation->step();
             row.wall_s = timed->wall_s;
             row.setup_s = timed->setup_s;
-            row.error = ProbeError(*timed->simulation, *geometry, T);
+            row.error = ProbeError(timed->simulation->network().flow.pressure(), *geometry, T);
             rows.push_back(row);
           }
         }

@@ -28,7 +28,9 @@ struct DiffusionGrid {
   std::vector<int> cells;                   // cells along the strip, each divisible by 4
   std::vector<double> bulk_moduli_pa;       // K_f scaling
   std::vector<double> explicit_dt_factors;  // fractions of dt_crit
-  std::vector<double> implicit_dt_factors;  // multiples of dt_crit
+  std::vector<double> implicit_dt_factors;  // multiples of dt_crit, backward Euler
+  // Crank–Nicolson: the implicit ones and longer (second order: far fewer steps for the same error)
+  std::vector<double> cn_dt_factors;
   // K_f scaling is run only up to this many cells: in T it changes neither the steps nor the
   // error (the grid shows it), so the finest strips run at real water stiffness only.
   int kf_scaling_max_cells = 160;

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "codec/effect_codec.h"
+
 namespace seep::service {
 namespace {
 
@@ -80,10 +82,13 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
     case v1::SOLVER_KIND_IMPLICIT:
       spec.kind = core::SolverKind::kImplicit;
       break;
+    case v1::SOLVER_KIND_CRANK_NICOLSON:
+      spec.kind = core::SolverKind::kCrankNicolson;
+      break;
     default:
       return InvalidArgument(
-          fmt::format("scene.solver.kind: must be SOLVER_KIND_STEADY, SOLVER_KIND_EXPLICIT or "
-                      "SOLVER_KIND_IMPLICIT (got {})",
+          fmt::format("scene.solver.kind: must be SOLVER_KIND_STEADY, SOLVER_KIND_EXPLICIT, "
+                      "SOLVER_KIND_IMPLICIT or SOLVER_KIND_CRANK_NICOLSON (got {})",
                       v1::SolverKind_Name(solver.kind())));
   }
   switch (solver.storage()) {
@@ -124,6 +129,10 @@ Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
           "radial.outer_pressure_pa",
           boundary.inlet_pressure_pa(), boundary.outlet_pressure_pa()));
     }
+    if (boundary.closed_inlet()) {
+      return InvalidArgument(
+          "scene.boundary.closed_inlet: applies to a linear boundary only (this one is radial)");
+    }
     const v1::RadialBoundary& radial = boundary.radial();
     spec.radial = core::RadialBoundarySpec{radial.well_radius_m(), radial.outer_radius_m(),
                                            radial.well_pressure_pa(), radial.outer_pressure_pa()};
@@ -144,6 +153,7 @@ Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
   }
   spec.inlet_pressure_pa = boundary.inlet_pressure_pa();
   spec.outlet_pressure_pa = boundary.outlet_pressure_pa();
+  spec.closed_inlet = boundary.closed_inlet();
   return spec;
 }
 
@@ -159,6 +169,10 @@ Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
                    scene.aperture().gap_multiplier(), scene.aperture().max_aperture_m()};
   SEEP_ASSIGN_OR_RETURN(spec.boundary, BoundaryFromProto(scene.boundary()));
   SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver()));
+  for (int k = 0; k < scene.effects_size(); ++k) {
+    SEEP_RETURN_IF_ERROR(
+        AppendEffectFromProto(scene.effects(k), static_cast<std::size_t>(k), &spec.effects));
+  }
   SEEP_RETURN_IF_ERROR(core::ValidateScene(spec));
   return spec;
 }

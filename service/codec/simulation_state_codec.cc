@@ -4,6 +4,8 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
+#include "codec/mechanics_state_codec.h"
+
 namespace seep::service {
 
 void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::SimulationState* out) {
@@ -15,6 +17,7 @@ void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::Simula
   auto* series = out->mutable_series();
   for (const auto& c : snapshot.series.columns) series->add_columns(c);
   series->mutable_values()->Assign(snapshot.series.values.begin(), snapshot.series.values.end());
+  if (snapshot.mechanics) MechanicsStateToProto(*snapshot.mechanics, out->mutable_mechanics());
 }
 
 core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::SimulationState& state) {
@@ -25,6 +28,7 @@ core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::Simula
   snap.worst_mass_balance_error = state.worst_mass_balance_error();
   snap.series.columns.assign(state.series().columns().begin(), state.series().columns().end());
   snap.series.values.assign(state.series().values().begin(), state.series().values().end());
+  if (state.has_mechanics()) snap.mechanics = MechanicsStateFromProto(state.mechanics());
   const std::size_t columns = snap.series.columns.size();
   if ((columns == 0 && !snap.series.values.empty()) ||
       (columns > 0 && snap.series.values.size() % columns != 0)) {

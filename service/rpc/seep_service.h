@@ -54,6 +54,9 @@ class SeepServiceImpl final : public v1::SeepService::Service {
                                 v1::ListCalibrationsResponse* resp) override;
   grpc::Status LookupCalibration(grpc::ServerContext* ctx, const v1::LookupCalibrationRequest* req,
                                  v1::LookupCalibrationResponse* resp) override;
+  // seep_service_fields.cc
+  grpc::Status GetJobFields(grpc::ServerContext* ctx, const v1::GetJobFieldsRequest* req,
+                            v1::GetJobFieldsResponse* resp) override;
 
  private:
   // A calibration ready to store: its name and serialized seep.v1.Calibration.

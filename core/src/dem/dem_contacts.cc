@@ -37,6 +37,10 @@ Status ValidateDemContactSettings(const DemContactSettings& s) {
     return InvalidArgument("dem.contact.skin: must be finite and >= 0 (got " +
                            std::to_string(s.skin) + ")");
   }
+  if (!std::isfinite(s.flow_gap) || s.flow_gap < 0.0) {
+    return InvalidArgument("dem.contact.flow_gap: must be finite and >= 0 (got " +
+                           std::to_string(s.flow_gap) + ")");
+  }
   if (s.periodic_x) {
     if (!std::isfinite(s.x0)) return InvalidArgument("dem.contact.x0: must be finite");
     if (!std::isfinite(s.lx) || s.lx <= 0.0) {
@@ -125,7 +129,7 @@ Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff
     if (nx < 3) {
       return InvalidArgument(
           "dem.contact.lx: the periodic length " + std::to_string(lx) +
-          " must hold at least 3 cells of 2 R_max + skin = " + std::to_string(h));
+          " must hold at least 3 cells of 2 R_max + cutoff = " + std::to_string(h));
     }
     hx = lx / static_cast<double>(nx);
     xmin = settings_.x0;
@@ -215,7 +219,9 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
       p->x[i] = xi;
     }
   }
-  SEEP_RETURN_IF_ERROR(FindCandidatePairs(*p, cutoff));
+  // Pairs up to flow_gap farther than the skin, so that CollectFlowContacts stays complete up to
+  // flow_gap until the next rebuild (walls need no such margin).
+  SEEP_RETURN_IF_ERROR(FindCandidatePairs(*p, cutoff + settings_.flow_gap));
 
   // Drop the bonds that broke (already reported) so that bond indices stay dense.
   {
@@ -270,24 +276,7 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
   const std::size_t np = pairs_.size();
   slots_.assign(np, PairSlot{});
   packed_.resize(n);
-
-  // Per-particle gather lists in ascending pair order.
-  gather_start_.assign(n + 1, 0);
-  for (const PairEntry& e : pairs_) {
-    ++gather_start_[e.i + 1];
-    ++gather_start_[e.j + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
-  gather_items_.resize(2 * np);
-  {
-    std::vector<std::int32_t>& fill = row_candidates_;
-    fill.assign(gather_start_.begin(), gather_start_.end() - 1);
-    for (std::size_t k = 0; k < np; ++k) {
-      const auto kk = static_cast<std::int32_t>(k);
-      gather_items_[fill[pairs_[k].i]++] = kk;
-      gather_items_[fill[pairs_[k].j]++] = ~kk;
-    }
-  }
+  BuildGatherLists(n);
 
   // Wall candidates, keyed (particle, wall), with their history carried over.
   {
@@ -329,6 +318,24 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
   needs_rebuild_ = false;
   if (counters != nullptr) ++counters->neighbour_rebuilds;
   return Status::Ok();
+}
+
+void DemContactForces::BuildGatherLists(std::size_t n) {
+  const std::size_t np = pairs_.size();
+  gather_start_.assign(n + 1, 0);
+  for (const PairEntry& e : pairs_) {
+    ++gather_start_[e.i + 1];
+    ++gather_start_[e.j + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
+  gather_items_.resize(2 * np);
+  std::vector<std::int32_t>& fill = row_candidates_;  // scratch reused as the fill cursor
+  fill.assign(gather_start_.begin(), gather_start_.end() - 1);
+  for (std::size_t k = 0; k < np; ++k) {
+    const auto kk = static_cast<std::int32_t>(k);
+    gather_items_[fill[pairs_[k].i]++] = kk;
+    gather_items_[fill[pairs_[k].j]++] = ~kk;
+  }
 }
 
 template <bool kBonds>
@@ -560,6 +567,17 @@ void DemContactForces::CollectContacts(std::vector<DemContactRecord>* out) const
     const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
     if (!(e.gap < 0.0) && !bonded) continue;
     out->push_back(DemContactRecord{e.i, e.j, e.fn, e.gap, e.shear, bonded});
+  }
+}
+
+void DemContactForces::CollectFlowContacts(double max_gap, ContactList* out) const {
+  out->Clear();
+  for (const PairEntry& e : pairs_) {
+    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
+    if (!(e.gap <= max_gap) && !bonded) continue;
+    out->i.push_back(e.i);
+    out->j.push_back(e.j);
+    out->gap.push_back(e.gap);
   }
 }
 

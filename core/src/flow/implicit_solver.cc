@@ -1,12 +1,18 @@
+// The theta-method pressure step in increment form with the per-component budget correction
+// (see implicit_solver.h).
 #include "seep/core/flow/implicit_solver.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
 #include "pressure_system.h"
+#include "seep/core/flow/network_components.h"
 #include "seep/core/flow/storage_volume.h"
 #include "step_input.h"
+
 namespace seep::core {
 
 ImplicitSolver::ImplicitSolver(const ImplicitSolverOptions& options)
@@ -26,6 +32,13 @@ Result<ImplicitSolver> ImplicitSolver::Create(const ImplicitSolverOptions& optio
       options.linear_solver != LinearSolverKind::kEigenSimplicialLdlt) {
     return InvalidArgument("flow.implicit.linear_solver: unknown kind");
   }
+  // Below 1/2 the scheme is only conditionally stable (it would need the explicit limit back).
+  if (!(options.theta >= 0.5 && options.theta <= 1.0)) {
+    return InvalidArgument(
+        "flow.implicit.theta: must be in [0.5, 1] (0.5 = Crank-Nicolson, 1 = backward Euler), "
+        "got " +
+        flow_internal::FormatNumber(options.theta));
+  }
   return ImplicitSolver(options);
 }
 
@@ -43,6 +56,27 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
                         ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
   storage_diagonal_dt_ = -1.0;
   SEEP_RETURN_IF_ERROR(system_->SyncTopology(network, {}));
+
+  // Components of the unknowns (= the non-fixed domains: this solver pins nothing) and their
+  // capacities, for the per-component budget correction of Step.
+  const NetworkComponents components = FindNetworkComponents(network);
+  const auto domain_of = system_->domain_of_unknown();
+  component_of_unknown_.resize(domain_of.size());
+  component_capacity_.assign(static_cast<std::size_t>(components.num_components), 0.0);
+  for (std::size_t u = 0; u < domain_of.size(); ++u) {
+    const std::int32_t c = components.component_of_domain[domain_of[u]];
+    component_of_unknown_[u] = c;
+    component_capacity_[c] += capacity_[domain_of[u]];
+  }
+  const auto unknown_of = system_->unknown_of_domain();
+  const auto pa = network.pipe_domain_a();
+  const auto pb = network.pipe_domain_b();
+  boundary_pipes_.clear();
+  for (std::size_t p = 0; p < pa.size(); ++p) {
+    if ((unknown_of[pa[p]] >= 0) != (unknown_of[pb[p]] >= 0)) {
+      boundary_pipes_.push_back(static_cast<std::int32_t>(p));
+    }
+  }
   topology_stamp_ = network.topology_version();
   coefficient_stamp_ = network.coefficient_version();
   return Status::Ok();
@@ -54,28 +88,74 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   SEEP_RETURN_IF_ERROR(
       flow_internal::CheckStepInput("implicit", dt, nd, volume_change, options_.diagnostics));
   SEEP_RETURN_IF_ERROR(Prepare(network));
+  const double theta = options_.theta;
   if (dt != storage_diagonal_dt_) {
+    // S / (theta dt): the system is divided by theta so that its matrix is "storage + L_ff" as
+    // for backward Euler (theta = 1 leaves every value bit-identical to the plain form).
+    const double theta_dt = theta * dt;
     storage_diagonal_.resize(nd);
-    for (std::size_t d = 0; d < nd; ++d) storage_diagonal_[d] = capacity_[d] / dt;
+    for (std::size_t d = 0; d < nd; ++d) storage_diagonal_[d] = capacity_[d] / theta_dt;
     storage_diagonal_dt_ = dt;
   }
   SEEP_RETURN_IF_ERROR(
       system_->SyncValues(network, storage_diagonal_, network.coefficient_version(), dt));
 
   const auto domain_of = system_->domain_of_unknown();
+  const auto unknown_of = system_->unknown_of_domain();
   const std::size_t nu = domain_of.size();
   const auto q_src = network.source_rate();
   const auto pressure_old = network.pressure();
+  const auto pa = network.pipe_domain_a();
+  const auto pb = network.pipe_domain_b();
+  const auto c = network.pipe_conductance();
+
+  // b = (F(P^n) + Q_src - dV/dt) / theta, F accumulated pipe by pipe in pipe order.
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(nu));
   for (std::size_t u = 0; u < nu; ++u) {
     const std::int32_t d = domain_of[u];
-    double r = storage_diagonal_[d] * pressure_old[d] + q_src[d];
+    double r = q_src[d];
     if (!volume_change.empty()) r -= volume_change[d] / dt;
     rhs[static_cast<Eigen::Index>(u)] = r;
   }
-  system_->AddKnownCoupling(network, rhs);
+  for (std::size_t p = 0; p < c.size(); ++p) {
+    const int ua = unknown_of[pa[p]];
+    const int ub = unknown_of[pb[p]];
+    if (ua < 0 && ub < 0) continue;
+    const double q = c[p] * (pressure_old[pb[p]] - pressure_old[pa[p]]);  // a <- b
+    if (ua >= 0) rhs[ua] += q;
+    if (ub >= 0) rhs[ub] -= q;
+  }
+  if (theta != 1.0) rhs /= theta;
   Eigen::VectorXd x;
   SEEP_RETURN_IF_ERROR(system_->Solve(rhs, x));
+
+  // Per-component budget correction (see the header): alpha_c = R_c / D_c with, in units of
+  // m^2/s (the theta-scaled equation times theta),
+  //   R_c = sum_c (Q - dV/dt) + sum_bnd C (P_known - P_u^n - theta x_u) - sum_c S x / dt,
+  //   D_c = sum_c S / dt + theta sum_bnd C.
+  // Interior pipes do not appear: their fluxes cancel exactly in a component's sum.
+  const std::size_t nc = component_capacity_.size();
+  std::vector<double> residual(nc, 0.0);
+  std::vector<double> denominator(nc, 0.0);
+  for (std::size_t k = 0; k < nc; ++k) denominator[k] = component_capacity_[k] / dt;
+  for (std::size_t u = 0; u < nu; ++u) {
+    const std::int32_t d = domain_of[u];
+    double r = q_src[d] - capacity_[d] * x[static_cast<Eigen::Index>(u)] / dt;
+    if (!volume_change.empty()) r -= volume_change[d] / dt;
+    residual[component_of_unknown_[u]] += r;
+  }
+  for (const std::int32_t p : boundary_pipes_) {
+    const int ua = unknown_of[pa[p]];
+    const int u = ua >= 0 ? ua : unknown_of[pb[p]];
+    const std::int32_t known = ua >= 0 ? pb[p] : pa[p];
+    const std::int32_t k = component_of_unknown_[u];
+    residual[k] += c[p] * (pressure_old[known] - pressure_old[domain_of[u]] - theta * x[u]);
+    denominator[k] += theta * c[p];
+  }
+  for (std::size_t u = 0; u < nu; ++u) {
+    const std::int32_t k = component_of_unknown_[u];
+    x[static_cast<Eigen::Index>(u)] += residual[k] / denominator[k];
+  }
 
   FlowStepReport report;
   report.dt = dt;
@@ -88,28 +168,24 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
            src = 0.0, src_mag = 0.0;
     for (std::size_t u = 0; u < nu; ++u) {
       const std::int32_t d = domain_of[u];
-      const double s = capacity_[d] * (x[static_cast<Eigen::Index>(u)] - pressure_old[d]);
+      const double dp = x[static_cast<Eigen::Index>(u)];
+      const double s = capacity_[d] * dp;
       stored += s;
       stored_mag += std::abs(s);
-      stored_level += capacity_[d] * std::abs(x[static_cast<Eigen::Index>(u)]);
+      stored_level += capacity_[d] * std::abs(pressure_old[d] + dp);
       const double dv = volume_change.empty() ? 0.0 : volume_change[d];
       dv_sum += dv;
       dv_mag += std::abs(dv);
       src += q_src[d];
       src_mag += std::abs(q_src[d]);
     }
-    // Boundary flux at the new pressures: what backward Euler transports.
-    const auto pa = network.pipe_domain_a();
-    const auto pb = network.pipe_domain_b();
-    const auto c = network.pipe_conductance();
-    const auto unknown_of = system_->unknown_of_domain();
+    // Boundary flux the scheme transports: theta q(P^{n+1}) + (1 - theta) q(P^n).
     double boundary = 0.0, boundary_mag = 0.0;
-    for (std::size_t p = 0; p < c.size(); ++p) {
+    for (const std::int32_t p : boundary_pipes_) {
       const int ua = unknown_of[pa[p]];
-      const int ub = unknown_of[pb[p]];
-      if ((ua >= 0) == (ub >= 0)) continue;
-      const double q =
-          ua >= 0 ? c[p] * (pressure_old[pb[p]] - x[ua]) : c[p] * (pressure_old[pa[p]] - x[ub]);
+      const int u = ua >= 0 ? ua : unknown_of[pb[p]];
+      const std::int32_t known = ua >= 0 ? pb[p] : pa[p];
+      const double q = c[p] * (pressure_old[known] - pressure_old[domain_of[u]] - theta * x[u]);
       boundary += q;
       boundary_mag += std::abs(q);
     }
@@ -123,7 +199,7 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   }
 
   auto pressure = network.mutable_pressure();
-  for (std::size_t u = 0; u < nu; ++u) pressure[domain_of[u]] = x[static_cast<Eigen::Index>(u)];
+  for (std::size_t u = 0; u < nu; ++u) pressure[domain_of[u]] += x[static_cast<Eigen::Index>(u)];
   if (options_.diagnostics) {
     double lo = std::numeric_limits<double>::infinity();
     double hi = -lo;

@@ -1,6 +1,7 @@
 #include "seep/core/geometry/contact_detection.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -22,7 +23,16 @@ std::size_t ContactDetector::MemoryBytes() const {
          sizeof(double) * candidate_gaps_.capacity();
 }
 
+namespace {
+std::atomic<std::uint64_t> g_contact_detection_calls{0};
+}  // namespace
+
+std::uint64_t ContactDetectionCalls() {
+  return g_contact_detection_calls.load(std::memory_order_relaxed);
+}
+
 Status ContactDetector::Detect(const Packing& packing, double max_gap, ContactList* contacts) {
+  g_contact_detection_calls.fetch_add(1, std::memory_order_relaxed);
   contacts->Clear();
   const std::size_t n = packing.size();
   if (packing.y.size() != n || packing.radius.size() != n) {

@@ -4,6 +4,7 @@
 #include "seep/core/geometry/domain_detection.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -72,8 +73,17 @@ std::size_t DomainDetector::MemoryBytes() const {
          Bytes(domain_box_) + Bytes(particle_host_);
 }
 
+namespace {
+std::atomic<std::uint64_t> g_domain_detection_calls{0};
+}  // namespace
+
+std::uint64_t DomainDetectionCalls() {
+  return g_domain_detection_calls.load(std::memory_order_relaxed);
+}
+
 Status DomainDetector::Detect(const Packing& packing, const ContactList& contacts,
                               const DomainDetectionOptions& options, DomainNetwork* network) {
+  g_domain_detection_calls.fetch_add(1, std::memory_order_relaxed);
   network->Clear();
   SEEP_RETURN_IF_ERROR(BuildGraph(packing, contacts, options));
   PruneLowDegree();

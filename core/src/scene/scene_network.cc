@@ -56,12 +56,7 @@ double AxisCoordinate(FlowAxis axis, const Packing& p, std::size_t i) {
 // A rigid, unloaded packing: no contact force, so a = a0 + m g (eq. 3).
 Status FillConductances(const SceneSpec& scene, const std::vector<double>& gaps,
                         FlowNetworkData& data) {
-  ApertureLaw law;
-  law.residual_aperture = scene.aperture.residual_aperture_m;
-  law.reference_force =
-      scene.aperture.reference_force_n > 0.0 ? scene.aperture.reference_force_n : 1.0;
-  law.gap_multiplier = scene.aperture.gap_multiplier;
-  if (scene.aperture.max_aperture_m > 0.0) law.max_aperture = scene.aperture.max_aperture_m;
+  const ApertureLaw law = SceneApertureLaw(scene);
   const std::size_t num_pipes = data.pipe_length.size();
   const std::vector<double> no_force(num_pipes, 0.0);
   data.pipe_aperture.assign(num_pipes, 0.0);
@@ -135,7 +130,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
       net.well_domain = static_cast<std::int32_t>(k);
     }
   }
-  if (net.well_domain < 0) {
+  if (net.well_domain < 0 && !net.well_may_vanish) {
     return FailedPrecondition(fmt::format(
         "scene.boundary.radial.well_radius_m: the particles around the hole of radius {} m do "
         "not close a loop around it (no well domain); lower well_radius_m or use a denser "
@@ -152,9 +147,11 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
   data.pore_volume.resize(nodes, 0.0);
   data.pressure.assign(nodes, scene.boundary.initial_pressure_pa);
   data.role.assign(nodes, DomainRole::kFree);
-  const auto well = static_cast<std::size_t>(net.well_domain);
-  data.pressure[well] = radial.well_pressure_pa;
-  data.role[well] = DomainRole::kFixedPressure;
+  if (net.well_domain >= 0) {
+    const auto well = static_cast<std::size_t>(net.well_domain);
+    data.pressure[well] = radial.well_pressure_pa;
+    data.role[well] = DomainRole::kFixedPressure;
+  }
   data.pressure[num_domains] = radial.outer_pressure_pa;
   data.role[num_domains] = DomainRole::kFixedPressure;
   data.source_rate.assign(nodes, 0.0);
@@ -209,20 +206,44 @@ Result<Packing> BuildScenePacking(const PackingSpec& spec) {
   return std::visit(PackingBuilder{}, spec.source);
 }
 
+ApertureLaw SceneApertureLaw(const SceneSpec& scene) {
+  ApertureLaw law;
+  law.residual_aperture = scene.aperture.residual_aperture_m;
+  law.reference_force =
+      scene.aperture.reference_force_n > 0.0 ? scene.aperture.reference_force_n : 1.0;
+  law.gap_multiplier = scene.aperture.gap_multiplier;
+  if (scene.aperture.max_aperture_m > 0.0) law.max_aperture = scene.aperture.max_aperture_m;
+  return law;
+}
+
+double SceneContactGap(const SceneSpec& scene, double mean_radius_m) {
+  return scene.packing.contact_gap_m + kRelativeContactTolerance * mean_radius_m;
+}
+
 Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   SceneNetwork net;
   SEEP_ASSIGN_OR_RETURN(net.packing, BuildScenePacking(scene.packing));
   if (scene.boundary.radial) SEEP_RETURN_IF_ERROR(CutAnnulus(*scene.boundary.radial, net));
   const Packing& p = net.packing;
-  const std::size_t n = p.size();
   double radius_sum = 0.0;
   for (double r : p.radius) radius_sum += r;
-  net.mean_radius_m = radius_sum / static_cast<double>(n);
-
-  const double max_gap =
-      scene.packing.contact_gap_m + kRelativeContactTolerance * net.mean_radius_m;
+  net.mean_radius_m = radius_sum / static_cast<double>(p.size());
   ContactDetector contact_detector;
-  SEEP_RETURN_IF_ERROR(contact_detector.Detect(p, max_gap, &net.contacts));
+  SEEP_RETURN_IF_ERROR(
+      contact_detector.Detect(p, SceneContactGap(scene, net.mean_radius_m), &net.contacts));
+  return ConnectSceneNetwork(scene, std::move(net));
+}
+
+Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net) {
+  net.domains = DomainNetwork{};
+  net.flow = FlowNetwork{};
+  net.pipe_contact.clear();
+  net.reservoir_pipes.clear();
+  net.inlet_node = net.outlet_node = net.well_domain = net.outer_node = -1;
+  net.inlet_pipes = net.outlet_pipes = net.outer_pipes = 0;
+  const Packing& p = net.packing;
+  const std::size_t n = p.size();
+  const double max_gap = SceneContactGap(scene, net.mean_radius_m);
   DomainDetector domain_detector;
   SEEP_RETURN_IF_ERROR(domain_detector.Detect(p, net.contacts, {max_gap}, &net.domains));
   const DomainNetwork& d = net.domains;
@@ -287,6 +308,7 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     const bool at_outlet = AxisCoordinate(axis, p, i) + p.radius[i] >= high - layer &&
                            AxisCoordinate(axis, p, j) + p.radius[j] >= high - layer;
     if (at_inlet == at_outlet) continue;  // a side wall, or a sample one particle long
+    if (at_inlet && scene.boundary.closed_inlet) continue;  // the low end is a no-flow base
     add_pipe(d.boundary_pipe_domain[k], at_inlet ? net.inlet_node : net.outlet_node,
              d.boundary_pipe_contact[k], d.boundary_pipe_length[k]);
     const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
@@ -296,7 +318,7 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
         {data.pipe_length.size() - 1, at_inlet, face, 2.0 * face - centroid});
     ++(at_inlet ? net.inlet_pipes : net.outlet_pipes);
   }
-  if (net.inlet_pipes == 0 || net.outlet_pipes == 0) {
+  if ((net.inlet_pipes == 0 && !scene.boundary.closed_inlet) || net.outlet_pipes == 0) {
     return FailedPrecondition(fmt::format(
         "scene.boundary.axis: the sample has {} inlet and {} outlet pipes; both ends need hull "
         "contacts in their edge layer (is the packing connected from end to end?)",
@@ -317,6 +339,11 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     count[side] += 1.0;
     reservoir_sum[side] += c * e.image_m;
     weight_sum[side] += c;
+  }
+  if (scene.boundary.closed_inlet) {
+    // One drained end: no through-flow, so no Darcy geometry.
+    SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+    return net;
   }
   if (!(weight_sum[0] > 0.0) || !(weight_sum[1] > 0.0)) {
     return FailedPrecondition(

@@ -172,7 +172,11 @@ Status ValidateScene(const SceneSpec& scene) {
           scene.solver.dt_factor));
     }
   }
-  return Status::Ok();
+  if (scene.boundary.closed_inlet && scene.boundary.radial) {
+    return InvalidArgument(
+        "scene.boundary.closed_inlet: applies to a linear boundary only (this one is radial)");
+  }
+  return ValidateEffects(scene);
 }
 
 }  // namespace seep::core

@@ -6,7 +6,7 @@
 
 namespace seep::core::testing {
 
-enum class TimeScheme { kExplicit, kBackwardEuler, kExact };
+enum class TimeScheme { kExplicit, kBackwardEuler, kCrankNicolson, kExact };
 
 // Exact discrete solution of the chain with nodes 0..n, P_0 = 1, P_n = 0, interior P = 0 at t = 0,
 // after `steps` steps of dt; per-node storage v, identical pipes c (discrete_exact.py).
@@ -28,11 +28,34 @@ inline double ChainDiscreteExact(int n, int i, int steps, double dt, double kf, 
       case TimeScheme::kBackwardEuler:
         rho = std::pow(1.0 / (1.0 + dt * lambda), steps);
         break;
+      case TimeScheme::kCrankNicolson:
+        rho = std::pow((1.0 - 0.5 * dt * lambda) / (1.0 + 0.5 * dt * lambda), steps);
+        break;
       case TimeScheme::kExact:
       default:
         rho = std::exp(-lambda * dt * steps);
         break;
     }
+    sum += b * std::sin(m * pi * i / n) * rho;
+  }
+  return (1.0 - static_cast<double>(i) / n) - sum;
+}
+
+// The same for the theta method (physics.md §4.5): mode m is multiplied per step by
+// (1 - (1 - theta) dt lambda_m) / (1 + theta dt lambda_m); theta = 1 is kBackwardEuler, 1/2 is
+// kCrankNicolson.
+inline double ChainDiscreteTheta(int n, int i, int steps, double dt, double kf, double c, double v,
+                                 double theta) {
+  const double pi = std::numbers::pi;
+  double sum = 0.0;
+  for (int m = 1; m < n; ++m) {
+    const double s = std::sin(m * pi / (2.0 * n));
+    const double lambda = 4.0 * kf * c / v * s * s;
+    double b = 0.0;
+    for (int j = 1; j < n; ++j) b += (1.0 - static_cast<double>(j) / n) * std::sin(m * pi * j / n);
+    b *= 2.0 / n;
+    const double rho =
+        std::pow((1.0 - (1.0 - theta) * dt * lambda) / (1.0 + theta * dt * lambda), steps);
     sum += b * std::sin(m * pi * i / n) * rho;
   }
   return (1.0 - static_cast<double>(i) / n) - sum;

@@ -87,14 +87,19 @@ TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
 }
 
 // A closed network (no fixed node): L is singular and only the storage diagonal V_s/(K_f dt)
-// pins the mean pressure, so the solve's rounding (eps ||L|| |P|) moves the stored fluid by about
-// eps dt/dt_crit of what the network holds: measured 6e-14 at 1e4, 4e-11 at 1e6 dt_crit. Up to
-// 1e5 dt_crit it stays an order of magnitude below 1e-10.
-double ClosedNetworkBudgetError(double dt_over_crit, int steps) {
+// pins the mean pressure, so a plain solve's rounding (eps ||L|| |P|) would move the stored fluid
+// by about eps dt/dt_crit of what the network holds (measured before the fix: 6e-14 at 1e4,
+// 4e-11 at 1e6, 5e-8 .. 3e-3 per step at 1e10 .. 1e15 dt_crit). Solving for the increment alone
+// leaves the first step (where dP ~ P) at 5e-10 (1e8) .. 4e-3 (1e15). The solver restores each
+// component's budget after the solve (implicit_solver.h), so the error is rounding of the
+// pressures themselves at any step: the ledger's 1e-10 (stability_invariants.h) holds with a
+// margin of 1e5 over what it measures (~1e-15: eps-level sums over 60 domains).
+double ClosedNetworkBudgetError(double dt_over_crit, int steps, double theta = 1.0) {
   FlowNetwork net = testing::MakeOrDie(testing::MakeRandomClosedData(60, 60, 11));
   const stability::PressureBounds bounds = stability::BoundsOf(net);
   ImplicitSolverOptions opt;
   opt.bulk_modulus = 2.2e9;
+  opt.theta = theta;
   auto solver = ImplicitSolver::Create(opt);
   EXPECT_TRUE(solver.ok());
   const double dt = dt_over_crit * ComputeCriticalTimeStep(net, opt.bulk_modulus, {})->dt_crit;
@@ -103,9 +108,13 @@ double ClosedNetworkBudgetError(double dt_over_crit, int steps) {
     const auto r = ledger.Step(*solver, net, dt);
     EXPECT_TRUE(r.ok()) << r.status().ToString();
     EXPECT_TRUE(stability::AllFinite(net));
-    EXPECT_TRUE(stability::WithinBounds(net, bounds));
+    // Crank–Nicolson is not monotone at large steps (implicit_solver.h): bounds for BE only.
+    if (theta == 1.0) {
+      EXPECT_TRUE(stability::WithinBounds(net, bounds));
+    }
   }
   EXPECT_TRUE(ledger.Conserved(net)) << dt_over_crit << " x dt_crit";
+  EXPECT_TRUE(ledger.SolverReportWithin()) << dt_over_crit << " x dt_crit";
   return std::max(ledger.worst_step_error(), ledger.CumulativeError(net));
 }
 
@@ -115,16 +124,29 @@ TEST(Stability, BackwardEulerOnClosedNetworkConservesUpToHundredThousandCritical
   stability::PrintMeasured("closed BE worst mass error up to 1e5 dt_crit", worst);
 }
 
-// Disabled: at 1e10..1e15 dt_crit (a DEM step over a closed cluster with a sliver, or one big step
-// to the steady state) the same closed network gains or loses 5e-8 .. 3e-3 of its stored fluid
-// per step (mean pressure 480666 -> 473303 Pa after five steps at 1e15); the solver's own report
-// shows it, so nothing is hidden, but it is not conserved. Anchored networks are not affected
-// (SliverDomainsBackwardEulerStaysMonotone runs at 1e14 x the sliver's dt_crit at 1e-14). Fix
-// (core/flow/implicit_solver.cc): solve for the increment, A dP = Q_src - L P^n - dV/dt, whose
-// rounding scales with the imbalance rather than with |P|, and/or restore sum V_s P of each closed
-// component after the solve as SteadyStateSolver's kConserveStoredFluid does. Enable when fixed.
-TEST(Stability, DISABLED_BackwardEulerOnClosedNetworkConservesAtHugeSteps) {
-  ClosedNetworkBudgetError(1e12, 5);
+// The DEM case (a step over a closed cluster with a sliver) and one big step to the steady state:
+// 1e6 .. 1e15 dt_crit, where the plain solve lost up to 3e-3 of the stored fluid per step. Each
+// run asserts the ledger's 1e-10 per step and cumulatively (kMassTolerance) and that the solver's
+// own report agrees; the worst is printed.
+TEST(Stability, BackwardEulerOnClosedNetworkConservesAtHugeSteps) {
+  double worst = 0.0;
+  for (const double m : {1e6, 1e8, 1e10, 1e12, 1e15}) {
+    worst = std::max(worst, ClosedNetworkBudgetError(m, 5));
+  }
+  EXPECT_LE(worst, stability::kMassTolerance);
+  stability::PrintMeasured("closed BE worst mass error 1e6 .. 1e15 dt_crit", worst);
+}
+
+// The same budget for Crank–Nicolson (theta = 1/2): the correction is the theta method's, so the
+// fluid is conserved at any step; the pressures themselves oscillate at these steps (the scheme is
+// not monotone, implicit_solver.h), so only the budget is asserted.
+TEST(Stability, CrankNicolsonOnClosedNetworkConservesAtHugeSteps) {
+  double worst = 0.0;
+  for (const double m : {1e2, 1e6, 1e10, 1e15}) {
+    worst = std::max(worst, ClosedNetworkBudgetError(m, 5, 0.5));
+  }
+  EXPECT_LE(worst, stability::kMassTolerance);
+  stability::PrintMeasured("closed CN worst mass error 1e2 .. 1e15 dt_crit", worst);
 }
 
 }  // namespace

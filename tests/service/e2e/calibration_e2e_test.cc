@@ -19,6 +19,7 @@
 
 #include "process.h"
 #include "seep/v1/job_service.grpc.pb.h"
+#include "seepd_fixture.h"
 
 namespace seep::testing {
 namespace {
@@ -29,14 +30,6 @@ const std::string kExample = std::string(SEEP_EXAMPLES_DIR) + "/calibration_swee
 const std::vector<double> kTargets = {1e-14, 3e-14, 1e-13, 3e-13, 1e-12};
 // The example's tolerance on |k - k_target| / k_target.
 constexpr double kTolerance = 1e-6;
-
-std::string JobIdFrom(const std::string& output) {
-  std::smatch m;
-  if (std::regex_search(output, m, std::regex("submitted calibration job (j-[0-9a-f]+)"))) {
-    return m[1];
-  }
-  return {};
-}
 
 // 17 significant digits: the double itself, for command-line arguments.
 std::string Full(double value) {
@@ -68,34 +61,9 @@ std::vector<std::map<std::string, std::string>> ParseCsv(const std::string& text
   return rows;
 }
 
-class CalibrationE2e : public ::testing::Test {
+class CalibrationE2e : public SeepdFixture {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-e2e-calibration-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-    const std::string port_file = (dir_ / "seepd.port").string();
-    server_ = ChildProcess({SEEPD_PATH, "--listen", "127.0.0.1:0", "--data-dir",
-                            (dir_ / "data").string(), "--port-file", port_file, "--workers", "1"},
-                           (dir_ / "seepd.out").string());
-    const int port = WaitForPortFile(port_file, std::chrono::seconds(30));
-    ASSERT_GT(port, 0) << "seepd did not start; see " << (dir_ / "seepd.out");
-    address_ = "127.0.0.1:" + std::to_string(port);
-  }
-
-  void TearDown() override {
-    if (server_.running()) {
-      EXPECT_EQ(server_.Stop(SIGTERM), 0) << "seepd did not stop cleanly";
-    }
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  CommandResult Seep(std::vector<std::string> args) {
-    args.insert(args.begin(), {SEEP_CLI_PATH, "--server", address_});
-    return RunCommand(args);
-  }
+  std::vector<std::string> ExtraSeepdFlags() const override { return {"--workers", "1"}; }
 
   // Runs the example sweep to SUCCEEDED; returns its job id.
   std::string CalibrateExample() {
@@ -112,10 +80,6 @@ class CalibrationE2e : public ::testing::Test {
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return json::parse(r.output, nullptr, /*allow_exceptions=*/false);
   }
-
-  std::filesystem::path dir_;
-  ChildProcess server_;
-  std::string address_;
 };
 
 TEST_F(CalibrationE2e, SweepIsStoredAndQueriedBackThroughTheCli) {

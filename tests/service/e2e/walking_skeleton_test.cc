@@ -11,52 +11,13 @@
 #include <regex>
 
 #include "process.h"
+#include "seepd_fixture.h"
 
 namespace seep::testing {
 namespace {
 
-class SeepdEndToEnd : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-e2e-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-    const std::string port_file = (dir_ / "port").string();
-    server_ = ChildProcess({SEEPD_PATH, "--listen", "127.0.0.1:0", "--data-dir",
-                            (dir_ / "data").string(), "--port-file", port_file},
-                           (dir_ / "seepd.out").string());
-    const int port = WaitForPortFile(port_file, std::chrono::seconds(30));
-    ASSERT_GT(port, 0) << "seepd did not start; see " << (dir_ / "seepd.out");
-    address_ = "127.0.0.1:" + std::to_string(port);
-  }
-  void TearDown() override {
-    if (server_.running()) server_.Stop(SIGTERM);
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  CommandResult Seep(std::vector<std::string> args) {
-    args.insert(args.begin(), {SEEP_CLI_PATH, "--server", address_});
-    return RunCommand(args);
-  }
-
-  std::string WriteScene(const std::string& name, const std::string& text) {
-    const auto path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
-  }
-
-  static std::string JobIdFrom(const std::string& submit_output) {
-    std::smatch m;
-    if (std::regex_search(submit_output, m, std::regex("submitted job (j-[0-9a-f]+)"))) return m[1];
-    return {};
-  }
-
-  std::filesystem::path dir_;
-  ChildProcess server_;
-  std::string address_;
-};
+// The shared fixture (seepd_fixture.h) under this suite's name.
+class SeepdEndToEnd : public SeepdFixture {};
 
 TEST_F(SeepdEndToEnd, SubmitWatchShowStoresTheLatticePermeability) {
   const std::string scene = std::string(SEEP_EXAMPLES_DIR) + "/darcy_square_lattice.textproto";
@@ -110,13 +71,13 @@ TEST_F(SeepdEndToEnd, SameRequestIdGivesOneJob) {
 
 TEST_F(SeepdEndToEnd, BadInputGetsClearErrorsAndExitCodes) {
   // A scene file that does not parse: file, line and column, exit code 3 (INVALID_ARGUMENT).
-  const std::string broken = WriteScene("broken.textproto", "name: \"x\"\npacking { lattice {\n");
+  const std::string broken = Write("broken.textproto", "name: \"x\"\npacking { lattice {\n");
   const CommandResult parse = Seep({"submit", broken});
   EXPECT_EQ(parse.exit_code, 3) << parse.output;
   EXPECT_NE(parse.output.find("broken.textproto:3:"), std::string::npos) << parse.output;
 
   // A scene the server rejects: the field path comes back, exit code 3, nothing is stored.
-  const std::string bad = WriteScene("bad.textproto", R"pb(
+  const std::string bad = Write("bad.textproto", R"pb(
     packing { lattice { kind: LATTICE_KIND_SQUARE columns: 4 rows: 4 radius_m: 1e-3 } }
     fluid { viscosity_pa_s: -1 bulk_modulus_pa: 2e9 }
     aperture { residual_aperture_m: 1e-5 }

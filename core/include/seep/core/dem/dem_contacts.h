@@ -2,20 +2,22 @@
 // list that finds them. One call per step, AddForces(), adds every contact and bond force to the
 // particles.
 //
-// Pair table. The neighbour list holds every pair (i < j) whose surface gap was below the skin
-// distance at the last rebuild, plus every intact bond, SORTED by (i, j). Each entry carries the
-// contact state: shear history, current normal force and gap, and its bond if any. An entry is a
-// *contact* while its gap < 0 (the disks overlap) or it is bonded; an entry whose disks do not
+// Pair table. The neighbour list holds every pair (i < j) whose surface gap was below
+// skin + flow_gap at the last rebuild, plus every intact bond, SORTED by (i, j). Each entry carries
+// the contact state: shear history, current normal force and gap, and its bond if any. An entry is
+// a *contact* while its gap < 0 (the disks overlap) or it is bonded; an entry whose disks do not
 // touch has zero history (a new contact starts from zero history; a separating one loses it), so
 // the sorted list of contacts (CollectContacts) is exactly "the persistent contact list keyed by
 // (i, j)" of the design, without inserting or erasing in the hot loop. Disk-wall contacts are kept
 // the same way, keyed (i, wall) and sorted.
 //
-// Rebuild policy. The list is rebuilt (cell grid of size 2 R_max + skin, O(N)) only when some
-// particle has moved more than skin/2, or some wall more than skin/2 along its normal, since the
-// last rebuild; the shear histories and bonds are carried over by merging the old and new sorted
-// lists. With periodic x, positions are wrapped into [x0, x0 + Lx) at each rebuild (only then, so
-// they stay continuous between rebuilds) and pair vectors use the nearest image.
+// Rebuild policy. The list is rebuilt (cell grid of size 2 R_max + skin + flow_gap, O(N)) only
+// when some particle has moved more than skin/2, or some wall more than skin/2 along its normal,
+// since the last rebuild (so a gap shrinks by at most skin between rebuilds: every pair with
+// gap < flow_gap is listed, in particular every overlapping one); the shear histories and bonds are
+// carried over by merging the old and new sorted lists. With periodic x, positions are wrapped into
+// [x0, x0 + Lx) at each rebuild (only then, so they stay continuous between rebuilds) and pair
+// vectors use the nearest image.
 //
 // Determinism and threads. Forces are computed per pair in parallel into per-pair slots; then each
 // particle sums its own pairs in ascending pair order (no atomics, no thread-dependent sums):
@@ -24,7 +26,13 @@
 //
 // Flow coupling. After AddForces: CollectContacts() lists contacts with their normal force F
 // (> 0 compression) and gap g (> 0 open, for bonded pairs that have separated), and
-// broken_bonds() the bonds that broke in this call.
+// broken_bonds() the bonds that broke in this call. CollectFlowContacts() lists the pairs the flow
+// network may need (near or bonded) with their gaps, in the geometry area's ContactList form.
+//
+// Checkpoints. SaveState() copies everything that influences later passes into a
+// DemContactState (dem_contact_state.h); RestoreState() validates one and adopts it, so that an
+// object created with the same settings continues bit-identically (given the same particles and
+// walls).
 #pragma once
 
 #include <cstddef>
@@ -32,21 +40,26 @@
 #include <vector>
 
 #include "seep/core/dem/contact_law.h"
+#include "seep/core/dem/dem_contact_state.h"
 #include "seep/core/dem/dem_counters.h"
 #include "seep/core/dem/dem_particles.h"
 #include "seep/core/dem/dem_wall.h"
 #include "seep/core/dem/parallel_bond.h"
 #include "seep/core/dem/servo_wall.h"
+#include "seep/core/geometry/contact_detection.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
 
 struct DemContactSettings {
-  ContactLawParams law;     // disk-disk and disk-wall law
-  double skin = 0.0;        // Verlet skin distance (>= 0, same unit as the radii)
+  ContactLawParams law;  // disk-disk and disk-wall law
+  double skin = 0.0;     // Verlet skin distance (>= 0, same unit as the radii)
+  // Largest gap at which CollectFlowContacts must be complete (>= 0): the list also holds the
+  // pairs up to this gap, open ones included (they cost one branch-free evaluation per pass).
+  double flow_gap = 0.0;
   bool periodic_x = false;  // periodic boundary along x over [x0, x0 + lx)
   double x0 = 0.0;
-  double lx = 0.0;  // > 0 when periodic_x; must hold >= 3 grid cells (2 R_max + skin)
+  double lx = 0.0;  // > 0 when periodic_x; must hold >= 3 grid cells (2 R_max + skin + flow_gap)
 };
 
 // "dem.contact.skin: must be finite and >= 0 (got -1)".
@@ -104,6 +117,26 @@ class DemContactForces {
   void CollectContacts(std::vector<DemContactRecord>* out) const;
   void CollectWallContacts(std::vector<DemWallContactRecord>* out) const;
 
+  // The pairs the flow coupling may treat as contacts: every neighbour-list pair whose gap at the
+  // last force pass is <= max_gap, plus every pair with an intact bond whatever its gap, sorted
+  // by (i, j), with that gap (out is cleared first). Only listed pairs can appear, and the list
+  // is complete up to settings().flow_gap, not up to the skin: a pair just outside the cutoff at
+  // the last rebuild may since have closed by up to one skin. So callers keep
+  // max_gap <= settings().flow_gap (with a larger max_gap some pairs are silently missing).
+  // Before the first force pass the list is empty.
+  void CollectFlowContacts(double max_gap, ContactList* out) const;
+
+  // Everything that influences later passes (see dem_contact_state.h), as plain arrays.
+  DemContactState SaveState() const;
+  // Validates `state` for `particle_count` disks and `wall_count` walls
+  // (ValidateDemContactState: DataLoss naming the field) and adopts it; on error the object is
+  // unchanged. Afterwards the scratch and the per-particle gather lists are re-derived, and
+  // broken_bonds() is empty. Continuing with the particles and walls of the saved run gives
+  // bit-identical results to the saved object (the settings must be the same: they are not in
+  // the state).
+  Status RestoreState(const DemContactState& state, std::size_t particle_count,
+                      std::size_t wall_count);
+
   // Number of pairs in the neighbour list (candidates).
   std::size_t pair_count() const { return pairs_.size(); }
   const DemContactSettings& settings() const { return settings_; }
@@ -117,6 +150,7 @@ class DemContactForces {
   // Copies the disks into packed_ and returns the largest squared displacement since the last
   // rebuild.
   double PackDisks(const DemParticles& p);
+  // Lists the walls within `cutoff` (the skin) and the pairs within cutoff + flow_gap.
   Status Rebuild(DemParticles* p, const std::vector<DemWall>& walls, double cutoff,
                  DemCounters* counters);
   // Candidate pairs (i < j, sorted) with gap < cutoff into cand_i_, cand_j_.
@@ -126,6 +160,8 @@ class DemContactForces {
   void ComputeWallForces(DemParticles* p, const std::vector<DemWall>& walls, double dt,
                          DemCounters* counters);
   void CollectBondBreaks(DemCounters* counters);
+  // Per-particle gather CSR of the pair table for n particles (ascending pair order).
+  void BuildGatherLists(std::size_t n);
 
   DemContactSettings settings_;
   bool needs_rebuild_ = true;

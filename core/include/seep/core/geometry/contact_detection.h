@@ -51,6 +51,10 @@ class ContactDetector {
   std::vector<double> candidate_gaps_;    // their gaps
 };
 
+// Process-wide count of ContactDetector::Detect calls (relaxed atomic; instrumentation only, it
+// never influences a result): lets a test prove that a run detects nothing after its set-up.
+std::uint64_t ContactDetectionCalls();
+
 // Convenience wrapper with a throw-away detector.
 Result<ContactList> DetectContacts(const Packing& packing, double max_gap);
 

@@ -131,6 +131,10 @@ struct DomainNetwork {
 // Rebuilds domains and pipes from contacts. Keep one DomainDetector and call Detect() again after
 // every topology change: its buffers (and the network's) are reused, so steady-state calls do not
 // allocate. Not thread-safe; use one detector per thread.
+// Process-wide count of DomainDetector::Detect calls (instrumentation only, as
+// ContactDetectionCalls()).
+std::uint64_t DomainDetectionCalls();
+
 class DomainDetector {
  public:
   // `contacts` must be sorted by (i, j) with i < j < packing.size() and no duplicates (what

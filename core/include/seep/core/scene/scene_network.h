@@ -72,7 +72,10 @@ struct SceneNetwork {
   double mean_radius_m = 0.0;
   // Radial boundary only (inlet_node, outlet_node and the Darcy geometry stay unset).
   std::int32_t well_domain = -1;  // the hole's domain, held at the well pressure
-  std::int32_t outer_node = -1;   // the outer reservoir
+  // Set by a re-detection on moving particles: a fracture that reaches the hull joins the well to
+  // the outside, which then leaves no well domain (well_domain = -1) instead of an error.
+  bool well_may_vanish = false;
+  std::int32_t outer_node = -1;  // the outer reservoir
   std::int64_t outer_pipes = 0;
   double well_x_m = 0.0;  // the well centre (centre of the full packing's bounding box)
   double well_y_m = 0.0;
@@ -85,5 +88,19 @@ Result<Packing> BuildScenePacking(const PackingSpec& spec);
 // Builds the network with apertures from the scene's aperture law at zero contact force (a rigid,
 // unloaded packing: a = a0 + m g). Free domains start at boundary.initial_pressure_pa.
 Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene);
+
+// The second half of BuildSceneNetwork, for a re-detection on moved particles: domains, pipes and
+// the flow network of net.packing with the contacts in net.contacts (sorted by (i, j), as
+// ContactDetector lists them). The caller sets packing, contacts, mean_radius_m and, for radial
+// scenes, the well centre; everything else is rebuilt. Same checks and messages as the build.
+Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net);
+
+// The scene's aperture law (reference force 1 N/m when the scene leaves it 0, no cap when
+// max_aperture_m is 0).
+ApertureLaw SceneApertureLaw(const SceneSpec& scene);
+
+// Largest gap that counts as a contact: packing.contact_gap_m plus a round-off tolerance of
+// 1e-9 mean radii (lattice disks that touch in theory sit 1e-16 apart in floating point).
+double SceneContactGap(const SceneSpec& scene, double mean_radius_m);
 
 }  // namespace seep::core

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "seep/core/effects/effect_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
@@ -85,9 +86,14 @@ struct BoundarySpec {
   double outlet_pressure_pa = 0.0;
   double initial_pressure_pa = 0.0;
   std::optional<RadialBoundarySpec> radial;
+  // Linear only: the inlet end is a no-flow base (e.g. the undrained bottom of a consolidation
+  // column); fluid leaves through the outlet end only and inlet_pressure_pa is unused.
+  bool closed_inlet = false;
 };
 
-enum class SolverKind { kSteady, kExplicit, kImplicit };
+// kImplicit is backward Euler; kCrankNicolson the theta = 1/2 method (second order, oscillates
+// above a few dt_crit after sharp changes).
+enum class SolverKind { kSteady, kExplicit, kImplicit, kCrankNicolson };
 enum class StorageVolumeKind { kApparent, kPore };
 
 struct SolverSpec {
@@ -105,7 +111,39 @@ struct SceneSpec {
   ApertureLawSpec aperture;
   BoundarySpec boundary;
   SolverSpec solver;
+  // The physics switched on (effect_spec.h); empty = flow on a frozen packing.
+  std::vector<EffectSpec> effects;
 };
+
+// Whether the scene lists an effect of type T.
+template <typename T>
+bool HasEffect(const SceneSpec& scene) {
+  for (const EffectSpec& e : scene.effects) {
+    if (std::holds_alternative<T>(e)) return true;
+  }
+  return false;
+}
+
+template <typename T>
+const T* FindEffect(const SceneSpec& scene) {
+  for (const EffectSpec& e : scene.effects) {
+    if (const T* t = std::get_if<T>(&e)) return t;
+  }
+  return nullptr;
+}
+
+// The particles move: the scene lists the contacts effect (the coupled step loop runs).
+inline bool HasMechanics(const SceneSpec& scene) { return HasEffect<ContactsEffectSpec>(scene); }
+// The scene solves pipe flow (an empty effect list means flow alone).
+inline bool HasFlow(const SceneSpec& scene) {
+  return scene.effects.empty() || HasEffect<FlowEffectSpec>(scene);
+}
+
+// The effects' own fields and how they combine (core/src/effects/effect_validation.cc): each
+// effect at most once; every mechanical effect needs `contacts`; the fluid couplings need both
+// `contacts` and `flow`; a moving scene needs a transient solver. Messages name the list entry:
+// "scene.effects[2].gravity: requires the contacts effect (the particles do not move without it)".
+Status ValidateEffects(const SceneSpec& scene);
 
 // Checks every field against its physical range. The first violation is returned; its message
 // starts with the field path.

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <stop_token>
 #include <string>
@@ -20,6 +21,8 @@
 #include <variant>
 #include <vector>
 
+#include "seep/core/coupling/particle_view.h"
+#include "seep/core/effects/coupled_stepper.h"
 #include "seep/core/flow/explicit_solver.h"
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/scene/scene_network.h"
@@ -87,7 +90,13 @@ class Simulation {
   std::uint64_t total_steps() const { return total_steps_; }
   double dt_s() const { return dt_; }  // 0 for a steady scene
   const SceneSpec& scene() const { return scene_; }
-  const SceneNetwork& network() const { return net_; }
+  // The current network (for moving scenes: of the last re-detection; its packing holds the
+  // positions it was detected from, particles() the current ones).
+  const SceneNetwork& network() const { return coupled_ ? coupled_->state().net : net_; }
+  // The particle centres and radii now (moving scenes: the DEM's; else the packing's).
+  ParticleView particles() const;
+  // The coupled step loop of a scene whose particles move; null for flow on a frozen packing.
+  const CoupledStepper* coupled() const { return coupled_.get(); }
   // The samples so far; the last row is the newest (live progress shows it).
   const TimeSeries& series() const { return series_; }
 
@@ -98,13 +107,19 @@ class Simulation {
   using Solver = std::variant<std::monostate, ExplicitSolver, ImplicitSolver>;
   Simulation(SceneSpec scene, SceneNetwork net, std::shared_ptr<spdlog::logger> logger);
   Status PrepareTransient();
+  Status PrepareCoupled(SceneNetwork net, bool has_network);
   Status StepOnce();
+  Status StepCoupled();
+  void AddCoupledMetrics(std::map<std::string, double>& m) const;
+  void AddNetworkMetrics(std::map<std::string, double>& m) const;
+  void SampleFlow(double step_mass_balance_error);
   void Sample(double step_mass_balance_error);
 
   SceneSpec scene_;
   SceneNetwork net_;
   std::shared_ptr<spdlog::logger> log_;
   Solver solver_;
+  std::unique_ptr<CoupledStepper> coupled_;
   double dt_ = 0.0;
   double dt_crit_ = 0.0;
   std::int32_t limiting_domain_ = -1;

@@ -1,0 +1,106 @@
+// EffectSpec: the physics a scene switches on, one struct per effect (design-anchors §5.4).
+//
+// A scene lists its effects; an effect that is not listed is never constructed and costs nothing.
+// An empty list means what every scene meant before effects existed: pipe flow on a frozen
+// packing (the `flow` effect alone), with no contact detection after set-up.
+//
+// The variant's arm order is the canonical execution order: within each hook of the step loop
+// the effects run in this order whatever order the scene lists them in, so a scene's result does
+// not depend on how its author sorted the list. Adding an effect: a spec struct here (and its arm
+// in the variant at the place its hooks must run), a class in core/src/effects/, one arm in
+// registry.cc (a missing arm is a compile error), one oneof arm in scene.proto plus its codec case.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "seep/core/dem/contact_law.h"
+#include "seep/core/dem/parallel_bond.h"
+
+namespace seep::core {
+
+// The particles move: DEM contacts (disk-disk and disk-wall linear spring-dashpot with Coulomb
+// friction) and velocity-Verlet integration. Every other mechanical effect requires it.
+struct ContactsEffectSpec {
+  ContactLawParams law;        // kn, kt in N/m per m of thickness; gamma_n 1/s
+  double density_kg_m3 = 0.0;  // disk density, kg/m^3 (mass per unit thickness = rho pi R^2)
+  double skin_m = 0.0;         // Verlet skin; 0 = one tenth of the mean radius
+  // DEM step as a fraction of the stable estimate sqrt(m/kn) (dem_integrator.h), in (0, 1].
+  double dt_safety = 0.2;
+};
+
+// Parallel bonds between every pair whose gap is at most tolerance_m at set-up.
+struct BondsEffectSpec {
+  BondParams params;
+  double tolerance_m = 0.0;
+};
+
+struct GravityEffectSpec {
+  double gx_m_s2 = 0.0;
+  double gy_m_s2 = -9.81;
+};
+
+// Fluid pressure -> forces on the particles around each domain (chord rule, physics.md §2.5).
+struct FluidForcesEffectSpec {};
+
+// PFC local damping, alpha in [0, 1).
+struct LocalDampingEffectSpec {
+  double alpha = 0.7;
+};
+
+enum class WallSide { kLeft, kRight, kBottom, kTop };
+
+// A rigid wall on one side of the packing's bounding box, touching its outermost disk; with
+// servo_stress_pa > 0 its speed is servo-controlled to hold that normal stress (servo_wall.h).
+struct WallSpec {
+  WallSide side = WallSide::kBottom;
+  double servo_stress_pa = 0.0;  // 0 = fixed wall
+  double servo_gain_fraction = 0.5;
+  double servo_max_speed_m_s = 0.0;  // > 0 for a servo wall
+};
+
+struct WallsEffectSpec {
+  std::vector<WallSpec> walls;
+};
+
+// Deformation -> dV term of the pressure update (eq. 4): domain volumes refreshed from the moving
+// particles at every flow update.
+struct VolumeChangeEffectSpec {};
+
+// Contact forces and gaps -> pipe apertures (scene.aperture law) at every flow update.
+struct ApertureUpdateEffectSpec {};
+
+// Pipe flow on the network with the scene's solver (explicit sub-cycled or implicit; steady
+// scenes only without mechanics).
+struct FlowEffectSpec {
+  // DEM steps per flow update; 0 = automatic: 1 when the fluid's step is the smaller (the fluid
+  // is sub-cycled inside the DEM step), else the whole number of DEM steps that fits in
+  // solver.dt_factor x dt_crit of the initial network and in the step the fluid's stiffness
+  // allows (a lagging pressure is a delayed spring).
+  std::uint32_t every_steps = 0;
+};
+
+// Topology change (bond break, contact lost or made) -> domains re-detected and pressures
+// remapped conserving the stored fluid (physics.md §2.6, V16), checked at every flow update.
+struct RedetectionEffectSpec {};
+
+// Constant-rate injection into the domain that contains the well centre (radial scenes): that
+// domain becomes a source instead of a fixed-pressure well. Follows the well through merges.
+struct InjectionEffectSpec {
+  double rate_m2_s = 0.0;  // > 0
+};
+
+using EffectSpec = std::variant<ContactsEffectSpec, BondsEffectSpec, GravityEffectSpec,
+                                FluidForcesEffectSpec, LocalDampingEffectSpec, WallsEffectSpec,
+                                VolumeChangeEffectSpec, ApertureUpdateEffectSpec, FlowEffectSpec,
+                                RedetectionEffectSpec, InjectionEffectSpec>;
+
+inline constexpr std::size_t kEffectKinds = std::variant_size_v<EffectSpec>;
+
+// The name a scene file and messages use for the arm (e.g. "fluid_forces").
+std::string_view EffectName(std::size_t kind);
+inline std::string_view EffectName(const EffectSpec& spec) { return EffectName(spec.index()); }
+
+}  // namespace seep::core

@@ -1,0 +1,166 @@
+// Validation of a scene's effect list: each effect's fields, then how the effects combine.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "seep/core/dem/contact_law.h"
+#include "seep/core/dem/parallel_bond.h"
+#include "seep/core/scene/scene_spec.h"
+
+namespace seep::core {
+namespace {
+
+std::string Field(std::size_t index, const EffectSpec& spec, const char* field) {
+  return fmt::format("scene.effects[{}].{}{}{}", index, EffectName(spec), *field ? "." : "", field);
+}
+
+bool PositiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
+
+// Re-prefixes a core validator's message ("dem.contact.kn: ...") with the list entry.
+Status Prefixed(std::size_t index, const EffectSpec& spec, const Status& status) {
+  if (status.ok()) return status;
+  return InvalidArgument(fmt::format("{}: {}", Field(index, spec, ""), status.message()));
+}
+
+struct FieldValidator {
+  std::size_t index;
+  const EffectSpec& spec;
+
+  Status Bad(const char* field, const std::string& why) const {
+    return InvalidArgument(fmt::format("{}: {}", Field(index, spec, field), why));
+  }
+
+  Status operator()(const ContactsEffectSpec& c) const {
+    SEEP_RETURN_IF_ERROR(Prefixed(index, spec, ValidateContactLawParams(c.law)));
+    if (!PositiveFinite(c.density_kg_m3)) {
+      return Bad("density_kg_m3",
+                 fmt::format("must be a finite number > 0 (got {})", c.density_kg_m3));
+    }
+    if (!std::isfinite(c.skin_m) || c.skin_m < 0.0) {
+      return Bad("skin_m", fmt::format("must be a finite number >= 0 (got {})", c.skin_m));
+    }
+    if (!PositiveFinite(c.dt_safety) || c.dt_safety > 1.0) {
+      return Bad("dt_safety", fmt::format("must lie in (0, 1] (got {})", c.dt_safety));
+    }
+    return Status::Ok();
+  }
+  Status operator()(const BondsEffectSpec& b) const {
+    SEEP_RETURN_IF_ERROR(Prefixed(index, spec, ValidateBondParams(b.params)));
+    if (!std::isfinite(b.tolerance_m) || b.tolerance_m < 0.0) {
+      return Bad("tolerance_m",
+                 fmt::format("must be a finite number >= 0 (got {})", b.tolerance_m));
+    }
+    return Status::Ok();
+  }
+  Status operator()(const GravityEffectSpec& g) const {
+    if (!std::isfinite(g.gx_m_s2) || !std::isfinite(g.gy_m_s2)) {
+      return Bad("gy_m_s2", fmt::format("must be finite (got {}, {})", g.gx_m_s2, g.gy_m_s2));
+    }
+    return Status::Ok();
+  }
+  Status operator()(const FluidForcesEffectSpec&) const { return Status::Ok(); }
+  Status operator()(const LocalDampingEffectSpec& d) const {
+    if (!std::isfinite(d.alpha) || d.alpha < 0.0 || d.alpha >= 1.0) {
+      return Bad("alpha", fmt::format("must lie in [0, 1) (got {})", d.alpha));
+    }
+    return Status::Ok();
+  }
+  Status operator()(const WallsEffectSpec& w) const {
+    if (w.walls.empty()) return Bad("walls", "lists no wall");
+    bool seen[4] = {false, false, false, false};
+    for (std::size_t k = 0; k < w.walls.size(); ++k) {
+      const WallSpec& wall = w.walls[k];
+      const auto side = static_cast<std::size_t>(wall.side);
+      const std::string field = fmt::format("walls[{}]", k);
+      if (seen[side]) return Bad(field.c_str(), "a second wall on the same side");
+      seen[side] = true;
+      if (!std::isfinite(wall.servo_stress_pa) || wall.servo_stress_pa < 0.0) {
+        return Bad((field + ".servo_stress_pa").c_str(),
+                   fmt::format("must be a finite number >= 0 (got {})", wall.servo_stress_pa));
+      }
+      if (wall.servo_stress_pa > 0.0) {
+        if (!PositiveFinite(wall.servo_max_speed_m_s)) {
+          return Bad((field + ".servo_max_speed_m_s").c_str(),
+                     fmt::format("a servo wall needs a finite speed limit > 0 (got {})",
+                                 wall.servo_max_speed_m_s));
+        }
+        if (!PositiveFinite(wall.servo_gain_fraction) || wall.servo_gain_fraction > 1.0) {
+          return Bad((field + ".servo_gain_fraction").c_str(),
+                     fmt::format("must lie in (0, 1] (got {})", wall.servo_gain_fraction));
+        }
+      }
+    }
+    return Status::Ok();
+  }
+  Status operator()(const VolumeChangeEffectSpec&) const { return Status::Ok(); }
+  Status operator()(const ApertureUpdateEffectSpec&) const { return Status::Ok(); }
+  Status operator()(const FlowEffectSpec&) const { return Status::Ok(); }
+  Status operator()(const RedetectionEffectSpec&) const { return Status::Ok(); }
+  Status operator()(const InjectionEffectSpec& i) const {
+    if (!PositiveFinite(i.rate_m2_s)) {
+      return Bad("rate_m2_s", fmt::format("must be a finite number > 0 (got {})", i.rate_m2_s));
+    }
+    return Status::Ok();
+  }
+};
+
+}  // namespace
+
+std::string_view EffectName(std::size_t kind) {
+  static constexpr std::string_view kNames[] = {
+      "contacts",      "bonds",           "gravity", "fluid_forces", "local_damping", "walls",
+      "volume_change", "aperture_update", "flow",    "redetection",  "injection"};
+  static_assert(std::size(kNames) == kEffectKinds, "one name per EffectSpec arm");
+  return kind < kEffectKinds ? kNames[kind] : std::string_view("unknown");
+}
+
+Status ValidateEffects(const SceneSpec& scene) {
+  bool listed[kEffectKinds] = {};
+  for (std::size_t k = 0; k < scene.effects.size(); ++k) {
+    const EffectSpec& e = scene.effects[k];
+    if (listed[e.index()]) {
+      return InvalidArgument(
+          fmt::format("{}: listed twice (each effect at most once)", Field(k, e, "")));
+    }
+    listed[e.index()] = true;
+    SEEP_RETURN_IF_ERROR(std::visit(FieldValidator{k, e}, e));
+  }
+  const bool mechanics = HasMechanics(scene);
+  const bool flow = HasFlow(scene);
+  for (std::size_t k = 0; k < scene.effects.size(); ++k) {
+    const EffectSpec& e = scene.effects[k];
+    const bool mechanical = std::holds_alternative<BondsEffectSpec>(e) ||
+                            std::holds_alternative<GravityEffectSpec>(e) ||
+                            std::holds_alternative<LocalDampingEffectSpec>(e) ||
+                            std::holds_alternative<WallsEffectSpec>(e);
+    const bool coupling = std::holds_alternative<FluidForcesEffectSpec>(e) ||
+                          std::holds_alternative<VolumeChangeEffectSpec>(e) ||
+                          std::holds_alternative<ApertureUpdateEffectSpec>(e) ||
+                          std::holds_alternative<RedetectionEffectSpec>(e);
+    if ((mechanical || coupling) && !mechanics) {
+      return InvalidArgument(
+          fmt::format("{}: requires the contacts effect (without it the particles do not move)",
+                      Field(k, e, "")));
+    }
+    if ((coupling || std::holds_alternative<InjectionEffectSpec>(e)) && !flow) {
+      return InvalidArgument(fmt::format(
+          "{}: requires the flow effect (there is no fluid to couple)", Field(k, e, "")));
+    }
+    if (std::holds_alternative<InjectionEffectSpec>(e) && !scene.boundary.radial) {
+      return InvalidArgument(
+          fmt::format("{}: injects into the well of a radial boundary; set scene.boundary.radial",
+                      Field(k, e, "")));
+    }
+  }
+  if (mechanics) {
+    if (scene.solver.kind == SolverKind::kSteady) {
+      return InvalidArgument(
+          "scene.solver.kind: a scene whose particles move (effect contacts) needs a transient "
+          "solver (explicit or implicit), not steady");
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace seep::core

@@ -1,0 +1,192 @@
+// The mechanical effects: contacts (which also fixes the DEM step), bonds, gravity, local
+// damping and walls (fixed or servo-controlled).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "effect_factories.h"
+#include "seep/core/dem/dem_integrator.h"
+#include "seep/core/dem/servo_wall.h"
+
+namespace seep::core::effects_internal {
+namespace {
+
+class ContactsEffect final : public Effect {
+ public:
+  explicit ContactsEffect(const ContactsEffectSpec& spec) : spec_(spec) {}
+  std::string_view Name() const override { return "contacts"; }
+  std::uint32_t Hooks() const override { return kForceHook; }
+
+  Status Bind(CoupledState& s) override {
+    const Packing& packing = s.net.packing;
+    SEEP_ASSIGN_OR_RETURN(s.particles, MakeDemParticles(packing, spec_.density_kg_m3));
+    double radius_sum = 0.0;
+    for (double r : packing.radius) radius_sum += r;
+    const double mean_radius = radius_sum / static_cast<double>(packing.size());
+    DemContactSettings settings;
+    settings.law = spec_.law;
+    settings.skin = spec_.skin_m > 0.0 ? spec_.skin_m : 0.1 * mean_radius;
+    // The flow contacts (re-detection) are read from the neighbour list, so it must hold every
+    // pair that can come within the contact gap before the next rebuild.
+    settings.flow_gap = SceneContactGap(*s.scene, mean_radius);
+    SEEP_ASSIGN_OR_RETURN(DemContactForces forces, DemContactForces::Create(settings));
+    s.contacts.emplace(std::move(forces));
+    SEEP_ASSIGN_OR_RETURN(
+        const double stable,
+        EstimateStableTimeStep(s.particles, spec_.law.kn, spec_.law.kt, spec_.dt_safety));
+    s.dem_dt = stable;
+    return Status::Ok();
+  }
+
+  // The first force of a step: sets (not adds) the contact and bond forces.
+  Status AddForces(CoupledState& s, const StepInfo& info) override {
+    SEEP_RETURN_IF_ERROR(s.contacts->SetForces(&s.particles, s.walls, info.dt, &s.counters.dem));
+    s.bonds_broken += s.contacts->broken_bonds().size();
+    return Status::Ok();
+  }
+
+ private:
+  ContactsEffectSpec spec_;
+};
+
+class BondsEffect final : public Effect {
+ public:
+  explicit BondsEffect(const BondsEffectSpec& spec) : spec_(spec) {}
+  std::string_view Name() const override { return "bonds"; }
+  std::uint32_t Hooks() const override { return 0; }  // evaluated inside the contact pass
+
+  Status Bind(CoupledState& s) override {
+    SEEP_ASSIGN_OR_RETURN(const std::size_t bonds,
+                          s.contacts->BondTouchingPairs(&s.particles, spec_.params,
+                                                        spec_.tolerance_m, &s.counters.dem));
+    if (bonds == 0) {
+      return FailedPrecondition(fmt::format(
+          "scene.effects.bonds: no pair of particles lies within tolerance_m = {} m; nothing "
+          "to bond",
+          spec_.tolerance_m));
+    }
+    return Status::Ok();
+  }
+
+ private:
+  BondsEffectSpec spec_;
+};
+
+class GravityEffect final : public Effect {
+ public:
+  explicit GravityEffect(const GravityEffectSpec& spec) : spec_(spec) {}
+  std::string_view Name() const override { return "gravity"; }
+  std::uint32_t Hooks() const override { return kForceHook; }
+  Status AddForces(CoupledState& s, const StepInfo&) override {
+    AddGravity(&s.particles, spec_.gx_m_s2, spec_.gy_m_s2, &s.counters.dem);
+    return Status::Ok();
+  }
+
+ private:
+  GravityEffectSpec spec_;
+};
+
+class LocalDampingEffect final : public Effect {
+ public:
+  explicit LocalDampingEffect(const LocalDampingEffectSpec& spec) : spec_(spec) {}
+  std::string_view Name() const override { return "local_damping"; }
+  std::uint32_t Hooks() const override { return kPostForceHook; }
+  Status PostForce(CoupledState& s, const StepInfo&) override {
+    ApplyLocalDamping(&s.particles, spec_.alpha, &s.counters.dem);
+    return Status::Ok();
+  }
+
+ private:
+  LocalDampingEffectSpec spec_;
+};
+
+class WallsEffect final : public Effect {
+ public:
+  explicit WallsEffect(const WallsEffectSpec& spec) : spec_(spec) {}
+  std::string_view Name() const override { return "walls"; }
+  std::uint32_t Hooks() const override { return kPostForceHook; }
+
+  // Each wall touches the outermost disk surface of its side of the packing's bounding box.
+  Status Bind(CoupledState& s) override {
+    const DemParticles& p = s.particles;
+    double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x;
+    double hi_x = -lo_x, hi_y = -lo_x;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      lo_x = std::min(lo_x, p.x[i] - p.radius[i]);
+      hi_x = std::max(hi_x, p.x[i] + p.radius[i]);
+      lo_y = std::min(lo_y, p.y[i] - p.radius[i]);
+      hi_y = std::max(hi_y, p.y[i] + p.radius[i]);
+    }
+    s.walls.clear();
+    servo_.clear();
+    for (const WallSpec& w : spec_.walls) {
+      Result<DemWall> wall = Status::Ok();
+      double length = 0.0;
+      switch (w.side) {
+        case WallSide::kLeft:
+          wall = MakeWall(lo_x, lo_y, 1.0, 0.0);
+          length = hi_y - lo_y;
+          break;
+        case WallSide::kRight:
+          wall = MakeWall(hi_x, lo_y, -1.0, 0.0);
+          length = hi_y - lo_y;
+          break;
+        case WallSide::kBottom:
+          wall = MakeWall(lo_x, lo_y, 0.0, 1.0);
+          length = hi_x - lo_x;
+          break;
+        case WallSide::kTop:
+          wall = MakeWall(lo_x, hi_y, 0.0, -1.0);
+          length = hi_x - lo_x;
+          break;
+      }
+      SEEP_RETURN_IF_ERROR(wall.status());
+      s.walls.push_back(*wall);
+      ServoWallSettings servo;
+      servo.target_stress = w.servo_stress_pa;
+      servo.length = length;
+      servo.gain_fraction = w.servo_gain_fraction;
+      servo.max_speed = w.servo_max_speed_m_s;
+      servo_.push_back(servo);
+    }
+    s.wall_stress_pa.assign(s.walls.size(), 0.0);
+    return Status::Ok();
+  }
+
+  Status PostForce(CoupledState& s, const StepInfo& info) override {
+    const std::vector<DemWallLoad>& loads = s.contacts->wall_loads();
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+      s.wall_stress_pa[w] = loads[w].normal_force / servo_[w].length;
+      if (servo_[w].target_stress > 0.0) {
+        ApplyServo(servo_[w], loads[w], info.dt, &s.walls[w], &s.counters.dem);
+      }
+    }
+    return Status::Ok();
+  }
+
+ private:
+  WallsEffectSpec spec_;
+  std::vector<ServoWallSettings> servo_;
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> MakeContactsEffect(const ContactsEffectSpec& spec) {
+  return std::make_unique<ContactsEffect>(spec);
+}
+std::unique_ptr<Effect> MakeBondsEffect(const BondsEffectSpec& spec) {
+  return std::make_unique<BondsEffect>(spec);
+}
+std::unique_ptr<Effect> MakeGravityEffect(const GravityEffectSpec& spec) {
+  return std::make_unique<GravityEffect>(spec);
+}
+std::unique_ptr<Effect> MakeLocalDampingEffect(const LocalDampingEffectSpec& spec) {
+  return std::make_unique<LocalDampingEffect>(spec);
+}
+std::unique_ptr<Effect> MakeWallsEffect(const WallsEffectSpec& spec) {
+  return std::make_unique<WallsEffect>(spec);
+}
+
+}  // namespace seep::core::effects_internal

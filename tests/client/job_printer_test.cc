@@ -1,0 +1,65 @@
+// How `seep watch` draws progress: the one-line bar for terminals and the durations in it.
+#include "job_printer.h"
+
+#include <gtest/gtest.h>
+
+namespace seep::client {
+namespace {
+
+v1::Job RunningJob(double fraction) {
+  v1::Job job;
+  job.set_state(v1::JOB_STATE_RUNNING);
+  job.mutable_progress()->set_step(1234);
+  job.mutable_progress()->set_time_s(0.0125);
+  job.mutable_progress()->set_fraction_done(fraction);
+  job.mutable_progress()->set_eta_s(125.0);
+  (*job.mutable_progress()->mutable_latest())["inflow_m2_per_s"] = 2.5e-6;
+  (*job.mutable_progress()->mutable_latest())["mass_balance_error"] = 1e-12;
+  return job;
+}
+
+TEST(ProgressBar, ShowsStateBarPercentStepTimeEtaAndKeyMetrics) {
+  const std::string line = FormatProgressBar(RunningJob(0.5), 200);
+  // 24 cells, half of them filled at 50%.
+  EXPECT_NE(line.find("RUNNING   [############............]  50.0%"), std::string::npos) << line;
+  EXPECT_NE(line.find("step 1234"), std::string::npos) << line;
+  EXPECT_NE(line.find("t = 0.0125 s"), std::string::npos) << line;
+  EXPECT_NE(line.find("ETA 2m05s"), std::string::npos) << line;
+  EXPECT_NE(line.find("q_in 2.5e-06"), std::string::npos) << line;
+  EXPECT_NE(line.find("mass_err 1e-12"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+}
+
+TEST(ProgressBar, IsCutToTheTerminalWidthSoACarriageReturnRedrawsIt) {
+  // A line as wide as the terminal would wrap, and \r would then redraw only its last row.
+  EXPECT_EQ(FormatProgressBar(RunningJob(0.25), 40).size(), 39u);
+  EXPECT_LT(FormatProgressBar(RunningJob(0.25), 200).size(), 199u);
+}
+
+TEST(ProgressBar, FinishedJobHasAFullBarAndNoEta) {
+  v1::Job job = RunningJob(1.0);
+  job.set_state(v1::JOB_STATE_SUCCEEDED);
+  const std::string line = FormatProgressBar(job, 200);
+  EXPECT_NE(line.find("[########################] 100.0%"), std::string::npos) << line;
+  EXPECT_EQ(line.find("ETA"), std::string::npos) << line;
+}
+
+TEST(ProgressBar, CalibrationCountsSolvesInsteadOfSimulatedTime) {
+  v1::Job job = RunningJob(0.1);
+  job.set_kind(v1::JOB_KIND_CALIBRATION);
+  job.mutable_progress()->set_step(3);
+  const std::string line = FormatProgressBar(job, 200);
+  EXPECT_NE(line.find("solves 3"), std::string::npos) << line;
+  EXPECT_EQ(line.find("t = "), std::string::npos) << line;
+}
+
+TEST(Duration, SecondsMinutesHours) {
+  EXPECT_EQ(FormatDuration(0.2), "1 s");  // never "0 s" for work that is still left
+  EXPECT_EQ(FormatDuration(42.4), "42 s");
+  EXPECT_EQ(FormatDuration(185.0), "3m05s");
+  EXPECT_EQ(FormatDuration(7620.0), "2h07m");
+  EXPECT_EQ(FormatDuration(-1.0), "?");
+}
+
+}  // namespace
+}  // namespace seep::client

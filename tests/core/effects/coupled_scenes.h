@@ -1,0 +1,117 @@
+// Scenes shared by the coupled-loop tests: small DEM assemblies with pipe flow.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "seep/core/scene/simulation.h"
+
+namespace seep::core::effects_test {
+
+inline constexpr double kRadius = 1e-3;          // m
+inline constexpr double kDensity = 2650.0;       // kg/m^3
+inline constexpr double kNormalStiffness = 1e7;  // N/m per m
+
+inline ContactsEffectSpec Contacts() {
+  ContactsEffectSpec c;
+  c.law.kn = kNormalStiffness;
+  c.law.kt = 0.5 * kNormalStiffness;
+  c.law.friction = 0.5;
+  c.law.damping_mode = NormalDampingMode::kCriticalRatio;
+  c.law.damping_ratio = 0.3;
+  c.density_kg_m3 = kDensity;
+  c.dt_safety = 0.2;
+  return c;
+}
+
+// A hex lattice in a box of walls (top one servo-loaded), water-like fluid, explicit flow with
+// every coupling effect; tests drop or add effects from here.
+inline SceneSpec BoxedLatticeScene(std::uint32_t columns, std::uint32_t rows) {
+  SceneSpec s;
+  s.name = "boxed lattice";
+  s.packing.source = LatticePackingSpec{LatticeKind::kHex, columns, rows, kRadius};
+  s.packing.contact_gap_m = 1e-6;
+  s.fluid.viscosity_pa_s = 1e-3;
+  s.fluid.bulk_modulus_pa = 2e8;
+  s.aperture.residual_aperture_m = 1e-5;
+  s.aperture.reference_force_n = 1e3;
+  s.aperture.gap_multiplier = 0.5;
+  s.boundary.axis = FlowAxis::kX;
+  s.boundary.inlet_pressure_pa = 2e4;
+  s.boundary.outlet_pressure_pa = 0.0;
+  s.solver.kind = SolverKind::kExplicit;
+  s.solver.dt_factor = 0.9;
+  s.solver.end_time_s = 2e-3;
+  WallsEffectSpec walls;
+  walls.walls = {WallSpec{WallSide::kBottom}, WallSpec{WallSide::kLeft}, WallSpec{WallSide::kRight},
+                 WallSpec{WallSide::kTop, 2e4, 0.5, 0.05}};
+  s.effects = {Contacts(),
+               walls,
+               LocalDampingEffectSpec{0.3},
+               GravityEffectSpec{},
+               FlowEffectSpec{},
+               FluidForcesEffectSpec{},
+               VolumeChangeEffectSpec{},
+               ApertureUpdateEffectSpec{}};
+  return s;
+}
+
+inline double Metric(const RunReport& report, const std::string& name) {
+  for (const auto& [key, value] : report.metrics) {
+    if (key == name) return value;
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return 0.0;
+}
+
+}  // namespace seep::core::effects_test
+
+namespace seep::core::effects_test {
+
+// Hydraulic fracturing: a bonded hex lattice with a well cut in its centre, confined by four
+// servo walls at `confinement_pa`, water injected into the well at a constant rate. The fluid is
+// scaled soft (K_f = 1e6 Pa, as PFC users do) so that the DEM step is the contacts'.
+inline SceneSpec HydrofracScene(double confinement_pa, double bond_strength_pa) {
+  SceneSpec s;
+  s.name = "hydraulic fracturing";
+  s.packing.source = LatticePackingSpec{LatticeKind::kHex, 24, 28, kRadius};
+  s.packing.contact_gap_m = 2e-6;
+  s.fluid.viscosity_pa_s = 1e-3;
+  s.fluid.bulk_modulus_pa = 1e6;
+  s.aperture.residual_aperture_m = 1e-6;
+  s.aperture.reference_force_n = 1e2;
+  s.aperture.gap_multiplier = 1.0;
+  s.aperture.max_aperture_m = 1e-4;
+  s.boundary.radial = RadialBoundarySpec{2.5 * kRadius, 1.0, 0.0, 0.0};
+  s.solver.kind = SolverKind::kExplicit;
+  s.solver.storage = StorageVolumeKind::kPore;
+  s.solver.dt_factor = 0.9;
+  s.solver.end_time_s = 0.04;
+  ContactsEffectSpec contacts = Contacts();
+  contacts.law.kn = 1e8;
+  contacts.law.kt = 5e7;
+  BondsEffectSpec bonds;
+  bonds.params = {1e11, 5e10, 1.0, bond_strength_pa, 2.0 * bond_strength_pa};
+  bonds.tolerance_m = 1e-6;
+  WallsEffectSpec walls;
+  for (const WallSide side :
+       {WallSide::kLeft, WallSide::kRight, WallSide::kBottom, WallSide::kTop}) {
+    walls.walls.push_back(WallSpec{side, confinement_pa, 0.5, 0.02});
+  }
+  s.effects = {contacts,
+               bonds,
+               walls,
+               LocalDampingEffectSpec{0.3},
+               FlowEffectSpec{},
+               FluidForcesEffectSpec{},
+               VolumeChangeEffectSpec{},
+               ApertureUpdateEffectSpec{},
+               RedetectionEffectSpec{},
+               InjectionEffectSpec{2e-4}};
+  return s;
+}
+
+}  // namespace seep::core::effects_test

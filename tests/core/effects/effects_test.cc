@@ -1,0 +1,201 @@
+// The effect registry and the coupled step loop: "only the effects a scene calls for", canonical
+// hook order, validation of effect lists, and bit-identical resume of a moving scene.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "coupled_scenes.h"
+#include "seep/core/geometry/contact_detection.h"
+#include "seep/core/geometry/domain_detection.h"
+
+namespace seep::core {
+namespace {
+
+using effects_test::BoxedLatticeScene;
+using effects_test::Contacts;
+
+Simulation MustCreate(const SceneSpec& scene) {
+  Result<Simulation> sim = Simulation::Create(scene);
+  EXPECT_TRUE(sim.ok()) << sim.status().message();
+  return std::move(*sim);
+}
+
+void MustRun(Simulation& sim) {
+  const Status status = sim.Run({});
+  ASSERT_TRUE(status.ok()) << status.message();
+}
+
+// Contacts and flow only: every counter of an unlisted effect stays zero, the listed ones work.
+TEST(Effects, UnlistedEffectsDoNoWork) {
+  SceneSpec scene = BoxedLatticeScene(8, 8);
+  scene.effects = {Contacts(), FlowEffectSpec{}};
+  Simulation sim = MustCreate(scene);
+  MustRun(sim);
+  const EffectCounters& c = sim.coupled()->state().counters;
+  EXPECT_GT(c.dem.integrations, 0u);
+  EXPECT_GT(c.dem.pair_evaluations, 0u);
+  EXPECT_GT(c.flow_updates, 0u);
+  EXPECT_EQ(c.dem.gravity_applications, 0u);
+  EXPECT_EQ(c.dem.local_damping_applications, 0u);
+  EXPECT_EQ(c.dem.servo_updates, 0u);
+  EXPECT_EQ(c.dem.wall_checks, 0u);
+  EXPECT_EQ(c.dem.wall_evaluations, 0u);
+  EXPECT_EQ(c.dem.bond_evaluations, 0u);
+  EXPECT_EQ(c.pressure_force_passes, 0u);
+  EXPECT_EQ(c.volume_updates, 0u);
+  EXPECT_EQ(c.aperture_updates, 0u);
+  EXPECT_EQ(c.topology_checks, 0u);
+  EXPECT_EQ(c.redetections, 0u);
+  EXPECT_EQ(c.injection_updates, 0u);
+}
+
+// The same box with everything listed: each effect's counter moves.
+TEST(Effects, ListedEffectsEachDoTheirWork) {
+  SceneSpec scene = BoxedLatticeScene(8, 8);
+  BondsEffectSpec bonds;
+  bonds.params = {1e9, 5e8, 1.0, 1e7, 1e7};
+  bonds.tolerance_m = 1e-6;
+  scene.effects.push_back(bonds);
+  scene.effects.push_back(RedetectionEffectSpec{});
+  Simulation sim = MustCreate(scene);
+  MustRun(sim);
+  const EffectCounters& c = sim.coupled()->state().counters;
+  EXPECT_GT(c.dem.gravity_applications, 0u);
+  EXPECT_GT(c.dem.local_damping_applications, 0u);
+  EXPECT_GT(c.dem.servo_updates, 0u);
+  EXPECT_GT(c.dem.wall_evaluations, 0u);
+  EXPECT_GT(c.dem.bond_evaluations, 0u);
+  EXPECT_GT(c.pressure_force_passes, 0u);
+  EXPECT_GT(c.volume_updates, 0u);
+  EXPECT_GT(c.aperture_updates, 0u);
+  EXPECT_GT(c.topology_checks, 0u);
+  EXPECT_EQ(c.volume_updates, c.flow_updates);
+  EXPECT_EQ(c.aperture_updates, c.flow_updates);
+}
+
+// A flow-only scene (no effects listed) builds no step loop and detects nothing after set-up.
+TEST(Effects, FlowOnlySceneDetectsNothingAfterSetUp) {
+  SceneSpec scene = BoxedLatticeScene(12, 10);
+  scene.effects.clear();
+  const std::uint64_t contacts_before = ContactDetectionCalls();
+  const std::uint64_t domains_before = DomainDetectionCalls();
+  Simulation sim = MustCreate(scene);
+  EXPECT_EQ(sim.coupled(), nullptr);
+  EXPECT_EQ(ContactDetectionCalls() - contacts_before, 1u);  // the set-up
+  EXPECT_EQ(DomainDetectionCalls() - domains_before, 1u);
+  MustRun(sim);
+  EXPECT_GT(sim.step(), 100u);
+  EXPECT_EQ(ContactDetectionCalls() - contacts_before, 1u);
+  EXPECT_EQ(DomainDetectionCalls() - domains_before, 1u);
+}
+
+// The hook lists run in the canonical order whatever order the scene lists the effects in.
+TEST(Effects, HookListsFollowTheCanonicalOrder) {
+  SceneSpec scene = BoxedLatticeScene(8, 8);
+  scene.effects = {ApertureUpdateEffectSpec{},
+                   FluidForcesEffectSpec{},
+                   FlowEffectSpec{},
+                   LocalDampingEffectSpec{0.3},
+                   GravityEffectSpec{},
+                   VolumeChangeEffectSpec{},
+                   Contacts(),
+                   RedetectionEffectSpec{}};
+  Simulation sim = MustCreate(scene);
+  using Names = std::vector<std::string_view>;
+  EXPECT_EQ(sim.coupled()->HookList(kForceHook), (Names{"contacts", "gravity", "fluid_forces"}));
+  EXPECT_EQ(sim.coupled()->HookList(kPostForceHook), (Names{"local_damping"}));
+  EXPECT_EQ(sim.coupled()->HookList(kEndOfStepHook),
+            (Names{"volume_change", "aperture_update", "flow", "redetection"}));
+}
+
+TEST(Effects, BadListsNameTheEntryAndTheReason) {
+  SceneSpec scene = BoxedLatticeScene(6, 6);
+  scene.effects = {FlowEffectSpec{}, GravityEffectSpec{}};
+  Status status = ValidateScene(scene);
+  EXPECT_EQ(status.message(),
+            "scene.effects[1].gravity: requires the contacts effect (without it the particles do "
+            "not move)");
+  scene.effects = {Contacts(), GravityEffectSpec{}, GravityEffectSpec{}};
+  EXPECT_EQ(ValidateScene(scene).message(),
+            "scene.effects[2].gravity: listed twice (each effect at most once)");
+  scene.effects = {Contacts(), FluidForcesEffectSpec{}};
+  EXPECT_EQ(ValidateScene(scene).message(),
+            "scene.effects[1].fluid_forces: requires the flow effect (there is no fluid to "
+            "couple)");
+  scene.effects = {Contacts(), FlowEffectSpec{}, InjectionEffectSpec{1e-6}};
+  EXPECT_EQ(ValidateScene(scene).message(),
+            "scene.effects[2].injection: injects into the well of a radial boundary; set "
+            "scene.boundary.radial");
+  ContactsEffectSpec bad = Contacts();
+  bad.dt_safety = 1.5;
+  scene.effects = {bad};
+  EXPECT_EQ(ValidateScene(scene).message(),
+            "scene.effects[0].contacts.dt_safety: must lie in (0, 1] (got 1.5)");
+  scene.effects = {Contacts(), FlowEffectSpec{}};
+  scene.solver.kind = SolverKind::kSteady;
+  EXPECT_EQ(
+      ValidateScene(scene).message().rfind("scene.solver.kind: a scene whose particles move", 0),
+      0u);
+}
+
+template <typename T>
+bool BitEqual(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// Stop part-way, snapshot, restore into a fresh simulation, finish: the state equals that of an
+// uninterrupted run bit for bit (particles, walls, contacts, pressures, series).
+TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
+  SceneSpec scene = BoxedLatticeScene(10, 8);
+  BondsEffectSpec bonds;
+  bonds.params = {1e9, 5e8, 1.0, 3e3, 6e3};  // weak: about 30 break under the load
+  bonds.tolerance_m = 1e-6;
+  scene.effects.push_back(bonds);
+  scene.effects.push_back(RedetectionEffectSpec{});
+
+  Simulation reference = MustCreate(scene);
+  MustRun(reference);
+  const SimulationSnapshot expected = reference.TakeSnapshot();
+
+  Simulation first = MustCreate(scene);
+  std::stop_source stop;
+  RunControl control;
+  control.stop = stop.get_token();
+  // Stop a few steps after the first bond broke, so that the rest of the run breaks more bonds
+  // and re-detects from the restored state.
+  std::uint64_t stop_at = 0;
+  control.at_step_end = [&](const Simulation& s) {
+    if (stop_at == 0 && s.coupled()->state().bonds_broken > 0) stop_at = s.step() + 3;
+    if (s.step() == stop_at) stop.request_stop();
+  };
+  ASSERT_EQ(first.Run(control).code(), StatusCode::kCancelled);
+  const SimulationSnapshot mid = first.TakeSnapshot();
+
+  Simulation resumed = MustCreate(scene);
+  const Status restored = resumed.Restore(mid);
+  ASSERT_TRUE(restored.ok()) << restored.message();
+  MustRun(resumed);
+  const SimulationSnapshot got = resumed.TakeSnapshot();
+
+  ASSERT_TRUE(got.mechanics && expected.mechanics);
+  // The stretch after the resume must exercise what the snapshot has to carry.
+  EXPECT_GT(expected.mechanics->bonds_broken, mid.mechanics->bonds_broken);
+  EXPECT_GT(expected.mechanics->topology_version, 0u);
+  EXPECT_EQ(got.step, expected.step);
+  EXPECT_TRUE(BitEqual(got.pressure, expected.pressure));
+  EXPECT_TRUE(BitEqual(got.mechanics->x, expected.mechanics->x));
+  EXPECT_TRUE(BitEqual(got.mechanics->y, expected.mechanics->y));
+  EXPECT_TRUE(BitEqual(got.mechanics->vx, expected.mechanics->vx));
+  EXPECT_TRUE(BitEqual(got.mechanics->omega, expected.mechanics->omega));
+  EXPECT_TRUE(BitEqual(got.mechanics->walls, expected.mechanics->walls));
+  EXPECT_TRUE(
+      BitEqual(got.mechanics->contacts.pair_shear, expected.mechanics->contacts.pair_shear));
+  EXPECT_TRUE(BitEqual(got.mechanics->aperture, expected.mechanics->aperture));
+  EXPECT_TRUE(BitEqual(got.series.values, expected.series.values));
+  EXPECT_EQ(got.mechanics->bonds_broken, expected.mechanics->bonds_broken);
+  EXPECT_EQ(got.mechanics->topology_version, expected.mechanics->topology_version);
+}
+
+}  // namespace
+}  // namespace seep::core
