@@ -27,7 +27,7 @@ struct AccuracyRun {
   bool pending = false;  // a problem listed but not run (no numbers)
 };
 
-// Crank–Nicolson (ImplicitSolver at theta = 1/2, driven directly: theta_run.h).
+// Crank–Nicolson (SolverKind::kCrankNicolson: ImplicitSolver at theta = 1/2).
 inline constexpr const char* kCrankNicolsonLabel = "cn";
 
 // Short labels for the CSV and the table.

@@ -12,7 +12,6 @@
 #include "problem_constants.h"
 #include "seep/core/scene/analytic_solutions.h"
 #include "seep/core/scene/scene_network.h"
-#include "theta_run.h"
 #include "timed_scene.h"
 
 namespace seep::bench {
@@ -104,9 +103,10 @@ double ProbeError(std::span<const double> p, const StripGeometry& g, double T) {
   return worst;
 }
 
-// A backward-Euler step (right-hand side, CHOLMOD back-substitution, diagnostics) costs about ten
-// explicit steps on these strips (this bench measured ~170 against ~16 ns per free domain and step
-// at 1276 domains); the weight 25 errs towards skipping, and only skips runs far off the front.
+// A backward-Euler or Crank–Nicolson step (right-hand side, CHOLMOD back-substitution, diagnostics)
+// costs about ten explicit steps on these strips (this bench measured ~170 against ~16 ns per free
+// domain and step at 1276 domains); the weight 25 errs towards skipping, and only skips runs far
+// off the front.
 constexpr double kImplicitStepCostInExplicitSteps = 25.0;
 
 // The cost of a run in explicit free-domain steps, from the step count the Simulation would take
@@ -115,7 +115,7 @@ double ExpectedCost(const SceneSpec& scene, std::int64_t domains) {
   const auto sim = core::Simulation::Create(scene);
   if (!sim.ok()) return 0.0;  // let the run itself report the error
   const double weight =
-      scene.solver.kind == SolverKind::kImplicit ? kImplicitStepCostInExplicitSteps : 1.0;
+      scene.solver.kind == SolverKind::kExplicit ? 1.0 : kImplicitStepCostInExplicitSteps;
   return weight * static_cast<double>(sim->total_steps()) * static_cast<double>(domains);
 }
 
@@ -149,15 +149,12 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
     SolverKind kind;
     StorageVolumeKind storage;
     const std::vector<double>* factors;
-    // > 0: run ImplicitSolver at this theta directly (theta_run.h), for Crank–Nicolson, which a
-    // SceneSpec cannot select; 0: the scene path (Simulation).
-    double theta = 0.0;
   };
   const Choice choices[] = {
       {SolverKind::kExplicit, StorageVolumeKind::kApparent, &grid.explicit_dt_factors},
       {SolverKind::kExplicit, StorageVolumeKind::kPore, &grid.explicit_dt_factors},
       {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.implicit_dt_factors},
-      {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.cn_dt_factors, 0.5},
+      {SolverKind::kCrankNicolson, StorageVolumeKind::kPore, &grid.cn_dt_factors},
   };
   for (const int cells : grid.cells) {
     const auto geometry = MeasureStrip(StripScene(cells, grid.bulk_moduli_pa.front()));
@@ -179,8 +176,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
             scene.solver.storage = choice.storage;
             scene.solver.dt_factor = factor;
             scene.solver.end_time_s = T * geometry->length_m * geometry->length_m / c;
-            const std::string label =
-                choice.theta > 0.0 ? kCrankNicolsonLabel : SolverLabel(choice.kind);
+            const std::string label = SolverLabel(choice.kind);
             const bool paper = choice.kind == SolverKind::kExplicit &&
                                choice.storage == StorageVolumeKind::kApparent && factor == 0.9 &&
                                kf == grid.bulk_moduli_pa.front();
@@ -198,22 +194,6 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
             row.domains = geometry->domains;
             row.bulk_modulus_pa = kf;
             row.error_kind = "max|p/p1 - series| at x/L=.25/.5/.75";
-            if (choice.theta > 0.0) {
-              const auto timed = RunThetaTimed(scene, choice.theta);
-              if (!timed.ok()) {
-                row.error = std::numeric_limits<double>::quiet_NaN();
-                row.note = timed.status().ToString();
-                rows.push_back(row);
-                continue;
-              }
-              row.steps = timed->steps;
-              row.wall_s = timed->wall_s;
-              row.setup_s = timed->setup_s;
-              row.error = ProbeError(timed->pressure, *geometry, T);
-              row.note = "theta 0.5 run directly";
-              rows.push_back(row);
-              continue;
-            }
             const auto timed = RunTimed(scene);
             if (!timed.ok()) {
               row.error = std::numeric_limits<double>::quiet_NaN();

@@ -123,6 +123,26 @@ const std::vector<BadScene>& CommonBadScenes() {
          s.mutable_solver()->set_end_time_s(1);
        },
        "scene.solver.dt_factor:"},
+      {"EffectNamesNothing", [](v1::Scene& s) { s.add_effects(); }, "scene.effects[0]:"},
+      {"GravityWithoutContacts",
+       [](v1::Scene& s) { s.add_effects()->mutable_gravity()->set_gy_m_s2(-9.81); },
+       "scene.effects[0].gravity: requires the contacts effect"},
+      {"ContactDampingUnset",
+       [](v1::Scene& s) {
+         auto* contacts = s.add_effects()->mutable_contacts();
+         contacts->mutable_law()->set_kn_n_per_m(1e7);
+         contacts->set_density_kg_m3(2650);
+       },
+       "scene.effects[0].contacts.law.damping:"},
+      {"WallSideUnset",
+       [](v1::Scene& s) {
+         auto* contacts = s.add_effects()->mutable_contacts();
+         contacts->mutable_law()->set_kn_n_per_m(1e7);
+         contacts->mutable_law()->set_damping(v1::NORMAL_DAMPING_CRITICAL_RATIO);
+         contacts->set_density_kg_m3(2650);
+         s.add_effects()->mutable_walls()->add_walls();
+       },
+       "scene.effects[1].walls.walls[0].side:"},
   };
   return scenes;
 }

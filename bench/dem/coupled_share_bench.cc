@@ -1,0 +1,129 @@
+// Benchmark: the flow's share of a coupled step (performance.md goal G6: aperture update, pressure
+// sweep and fluid forces on the disks, flow sub-stepped 1:1 with the DEM), on the shared settled
+// bed with the reference DEM settings (kn = 2e6, kt = 2/7 kn, gamma_n = 2000, friction 0.5,
+// density 1, gravity 10, dt = 1e-4; side walls instead of the periodic x of the reference, which
+// scenes do not offer).
+//
+// Usage: seep_coupled_share_bench path/to/settled_bed_9900.txt [steps=2000]
+// Runs the bed twice through the scene API, 200 warm-up steps then `steps` timed steps each:
+//   mechanics  effects contacts, gravity, walls (bottom, left, right);
+//   coupled    the same plus flow (explicit, one flow update per DEM step), fluid_forces,
+//              volume_change and aperture_update, with a fluid soft enough that one explicit
+//              sub-step covers the DEM step (the 1:1 of G6).
+// and prints both rates and the flow share = 1 - t_mechanics / t_coupled. Single thread.
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stop_token>
+#include <string>
+
+#include "seep/core/geometry/packing_file.h"
+#include "seep/core/scene/simulation.h"
+
+namespace {
+
+using namespace seep::core;  // NOLINT(google-build-using-namespace): a small program
+
+SceneSpec BedScene(const Packing& bed, bool coupled) {
+  SceneSpec s;
+  s.name = coupled ? "coupled bed" : "mechanics bed";
+  s.packing.source = ParticleListSpec{bed.x, bed.y, bed.radius};
+  s.packing.contact_gap_m = 0.01;  // reduced units: a hundredth of a diameter
+  s.fluid.viscosity_pa_s = 1.0;
+  s.fluid.bulk_modulus_pa = 1e-3;  // soft: neither the DEM step nor the 1:1 sub-step shrink
+  s.aperture.residual_aperture_m = 1e-3;
+  s.aperture.reference_force_n = 100.0;
+  s.aperture.gap_multiplier = 0.5;
+  s.boundary.axis = FlowAxis::kX;
+  s.boundary.inlet_pressure_pa = 1.0;
+  s.solver.kind = SolverKind::kExplicit;
+  s.solver.dt_factor = 1.0;
+  s.solver.end_time_s = 1.0;  // longer than any run: the bench stops it
+  ContactsEffectSpec contacts;
+  contacts.law.kn = 2.0e6;
+  contacts.law.kt = 2.0 / 7.0 * contacts.law.kn;
+  contacts.law.friction = 0.5;
+  contacts.law.damping_mode = NormalDampingMode::kPerReducedMass;
+  contacts.law.gamma_n = 2000.0;
+  contacts.density_kg_m3 = 1.0;
+  // dt = safety sqrt(m_min / kn) with m_min = pi 0.4^2: 1e-4 as in the reference settings.
+  contacts.dt_safety = 1e-4 / std::sqrt(3.14159265358979 * 0.16 / 2.0e6);
+  contacts.skin_m = 0.1;
+  WallsEffectSpec walls;
+  walls.walls = {WallSpec{WallSide::kBottom}, WallSpec{WallSide::kLeft},
+                 WallSpec{WallSide::kRight}};
+  s.effects = {contacts, GravityEffectSpec{0.0, -10.0}, walls};
+  if (coupled) {
+    s.effects.push_back(FlowEffectSpec{1});
+    s.effects.push_back(FluidForcesEffectSpec{});
+    s.effects.push_back(VolumeChangeEffectSpec{});
+    s.effects.push_back(ApertureUpdateEffectSpec{});
+  }
+  return s;
+}
+
+// Runs `steps` more steps; returns the wall seconds.
+double RunSteps(Simulation& sim, std::uint64_t steps) {
+  std::stop_source stop;
+  RunControl control;
+  control.stop = stop.get_token();
+  const std::uint64_t target = sim.step() + steps;
+  control.at_step_end = [&](const Simulation& s) {
+    if (s.step() >= target) stop.request_stop();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const Status status = sim.Run(control);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (status.code() != StatusCode::kCancelled) {
+    std::fprintf(stderr, "run ended early: %s\n", status.message().c_str());
+    std::exit(1);
+  }
+  return seconds;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s settled_bed_9900.txt [steps=2000]\n", argv[0]);
+    return 2;
+  }
+  const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000;
+  omp_set_num_threads(1);
+  Result<Packing> bed = LoadPackingFile(argv[1]);
+  if (!bed.ok()) {
+    std::fprintf(stderr, "%s\n", bed.status().message().c_str());
+    return 1;
+  }
+  double seconds[2] = {0.0, 0.0};
+  for (int coupled = 0; coupled < 2; ++coupled) {
+    Result<Simulation> sim = Simulation::Create(BedScene(*bed, coupled == 1));
+    if (!sim.ok()) {
+      std::fprintf(stderr, "%s\n", sim.status().message().c_str());
+      return 1;
+    }
+    RunSteps(*sim, 200);
+    seconds[coupled] = RunSteps(*sim, steps);
+    const double rate = static_cast<double>(bed->size() * steps) / seconds[coupled];
+    std::printf("%-9s %zu disks, dt %.3g, %llu steps: %.3f s, %.3g particle-steps/s",
+                coupled ? "coupled" : "mechanics", bed->size(), sim->dt_s(),
+                static_cast<unsigned long long>(steps), seconds[coupled], rate);
+    if (coupled == 1) {
+      const CoupledState& state = sim->coupled()->state();
+      std::printf(" (%zu domains, %zu pipes, flow every %llu step(s), %lld sub-step(s) per update)",
+                  state.net.domains.num_domains(), state.net.flow.num_pipes(),
+                  static_cast<unsigned long long>(sim->coupled()->flow_every()),
+                  static_cast<long long>(state.flow.max_sub_steps));
+    }
+    std::printf("\n");
+  }
+  const double share = 1.0 - seconds[0] / seconds[1];
+  std::printf(
+      "flow share of a coupled step: %.1f %% (goal G6 <= 25 %%, issue #4 and stretch <= 10 %%)\n",
+      100.0 * share);
+  return 0;
+}
