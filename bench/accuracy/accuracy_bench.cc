@@ -1,6 +1,8 @@
 // seep_accuracy_bench: what accuracy costs in wall time (issue 7, "Accuracy versus time").
 //
-//   seep_accuracy_bench [csv_path=accuracy.csv] [--svg chart.svg] [--full]
+//   seep_accuracy_bench [csv_path=accuracy.csv] [--svg chart.svg] [--full] [--only PROBLEM]
+//
+// --only diffusion|darcy|thiem|terzaghi runs that problem's grid alone.
 //
 // Runs the verification problems that have an analytic answer over a grid of solver choices,
 // through the real path (SceneSpec -> Simulation::Create -> Simulation::Run):
@@ -52,6 +54,7 @@ struct Options {
   std::string csv_path = "accuracy.csv";
   std::string svg_path;  // default: the CSV path with .svg
   bool full = false;
+  std::string only;  // empty: every problem
 };
 
 std::optional<Options> ParseArgs(int argc, char** argv) {
@@ -61,6 +64,11 @@ std::optional<Options> ParseArgs(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--full") {
       o.full = true;
+    } else if (arg == "--only" && i + 1 < argc) {
+      o.only = argv[++i];
+      if (o.only != "diffusion" && o.only != "darcy" && o.only != "thiem" && o.only != "terzaghi") {
+        return std::nullopt;
+      }
     } else if (arg == "--svg" && i + 1 < argc) {
       o.svg_path = argv[++i];
     } else if (arg == "--help" || arg == "-h" || (arg.rfind("--", 0) == 0) || have_csv) {
@@ -265,15 +273,25 @@ void PrintStorageInPhysicalTime(const std::vector<double>& times) {
 int main(int argc, char** argv) {
   const auto options = ParseArgs(argc, argv);
   if (!options) {
-    std::fprintf(stderr, "usage: %s [csv_path=accuracy.csv] [--svg chart.svg] [--full]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s [csv_path=accuracy.csv] [--svg chart.svg] [--full] [--only "
+                 "diffusion|darcy|thiem|terzaghi]\n",
+                 argv[0]);
     return 2;
   }
   std::vector<AccuracyRun> rows;
   const seep::bench::DiffusionGrid diffusion = seep::bench::DefaultDiffusionGrid(options->full);
-  seep::bench::RunDiffusionGrid(diffusion, rows);
-  seep::bench::RunDarcyGrid(seep::bench::DefaultDarcyGrid(options->full), rows);
-  seep::bench::RunThiemGrid(seep::bench::DefaultThiemGrid(options->full), rows);
-  seep::bench::RunTerzaghiGrid(seep::bench::DefaultTerzaghiGrid(options->full), rows);
+  const auto wanted = [&](const char* problem) {
+    return options->only.empty() || options->only == problem;
+  };
+  if (wanted("diffusion")) seep::bench::RunDiffusionGrid(diffusion, rows);
+  if (wanted("darcy"))
+    seep::bench::RunDarcyGrid(seep::bench::DefaultDarcyGrid(options->full), rows);
+  if (wanted("thiem"))
+    seep::bench::RunThiemGrid(seep::bench::DefaultThiemGrid(options->full), rows);
+  if (wanted("terzaghi")) {
+    seep::bench::RunTerzaghiGrid(seep::bench::DefaultTerzaghiGrid(options->full), rows);
+  }
 
   std::vector<std::size_t> all(rows.size());
   std::iota(all.begin(), all.end(), std::size_t{0});

@@ -20,7 +20,8 @@
 // U_num = 1 - sum V_s p / sum V_s u0, goes into the note with its error |U_num - U(Tv)|: it is
 // not the headline measure because the network stores nothing in the half cell between the last
 // domain and the outlet reservoir, so U_num relative to the network's own initial content carries
-// an O(h / 2H) offset that no solver choice removes (see docs/accuracy.md).
+// an O(h / 2H) offset that no solver choice removes, (1 - U) h / 2H (see docs/accuracy.md). The
+// note also gives |dU_H|, U with the initial content referred to the whole column of length H.
 #pragma once
 
 #include <string>
