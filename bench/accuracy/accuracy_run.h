@@ -3,8 +3,10 @@
 // analytic answer.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "seep/core/scene/scene_spec.h"
 
@@ -29,6 +31,26 @@ struct AccuracyRun {
 
 // Crank–Nicolson (SolverKind::kCrankNicolson: ImplicitSolver at theta = 1/2).
 inline constexpr const char* kCrankNicolsonLabel = "cn";
+
+// One solver choice of a transient grid: scheme, storage volume and the step factors to sweep.
+struct SolverChoice {
+  core::SolverKind kind;
+  core::StorageVolumeKind storage;
+  const std::vector<double>* factors;
+};
+
+// The four schemes every transient problem sweeps: the paper's explicit update (apparent
+// volume), explicit with the pore volume, backward Euler and Crank-Nicolson (both pore volume).
+inline std::array<SolverChoice, 4> TransientChoices(const std::vector<double>& explicit_factors,
+                                                    const std::vector<double>& implicit_factors,
+                                                    const std::vector<double>& cn_factors) {
+  using core::SolverKind;
+  using core::StorageVolumeKind;
+  return {{{SolverKind::kExplicit, StorageVolumeKind::kApparent, &explicit_factors},
+           {SolverKind::kExplicit, StorageVolumeKind::kPore, &explicit_factors},
+           {SolverKind::kImplicit, StorageVolumeKind::kPore, &implicit_factors},
+           {SolverKind::kCrankNicolson, StorageVolumeKind::kPore, &cn_factors}}};
+}
 
 // Short labels for the CSV and the table.
 inline std::string SolverLabel(core::SolverKind kind) {

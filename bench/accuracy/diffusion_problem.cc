@@ -145,17 +145,8 @@ DiffusionGrid DefaultDiffusionGrid(bool full) {
 }
 
 void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows) {
-  struct Choice {
-    SolverKind kind;
-    StorageVolumeKind storage;
-    const std::vector<double>* factors;
-  };
-  const Choice choices[] = {
-      {SolverKind::kExplicit, StorageVolumeKind::kApparent, &grid.explicit_dt_factors},
-      {SolverKind::kExplicit, StorageVolumeKind::kPore, &grid.explicit_dt_factors},
-      {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.implicit_dt_factors},
-      {SolverKind::kCrankNicolson, StorageVolumeKind::kPore, &grid.cn_dt_factors},
-  };
+  const auto choices =
+      TransientChoices(grid.explicit_dt_factors, grid.implicit_dt_factors, grid.cn_dt_factors);
   for (const int cells : grid.cells) {
     const auto geometry = MeasureStrip(StripScene(cells, grid.bulk_moduli_pa.front()));
     if (!geometry.ok()) {
@@ -167,7 +158,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
     for (const double T : grid.times) {
       for (const double kf : grid.bulk_moduli_pa) {
         if (kf != grid.bulk_moduli_pa.front() && cells > grid.kf_scaling_max_cells) continue;
-        for (const Choice& choice : choices) {
+        for (const SolverChoice& choice : choices) {
           const double n_s = choice.storage == StorageVolumeKind::kPore ? geometry->porosity : 1.0;
           const double c = k * kf / (kViscosity * n_s);
           for (const double factor : *choice.factors) {

@@ -145,17 +145,8 @@ TerzaghiGrid DefaultTerzaghiGrid(bool full) {
 }
 
 void RunTerzaghiGrid(const TerzaghiGrid& grid, std::vector<AccuracyRun>& rows) {
-  struct Choice {
-    SolverKind kind;
-    StorageVolumeKind storage;
-    const std::vector<double>* factors;
-  };
-  const Choice choices[] = {
-      {SolverKind::kExplicit, StorageVolumeKind::kApparent, &grid.explicit_dt_factors},
-      {SolverKind::kExplicit, StorageVolumeKind::kPore, &grid.explicit_dt_factors},
-      {SolverKind::kImplicit, StorageVolumeKind::kPore, &grid.implicit_dt_factors},
-      {SolverKind::kCrankNicolson, StorageVolumeKind::kPore, &grid.cn_dt_factors},
-  };
+  const auto choices =
+      TransientChoices(grid.explicit_dt_factors, grid.implicit_dt_factors, grid.cn_dt_factors);
   // Exact lattice permeability a^3 / (24 R) (physics.md §1.3).
   const double k = kAperture * kAperture * kAperture / (24.0 * kRadius);
   const double Tv = grid.time_factor;
@@ -166,7 +157,7 @@ void RunTerzaghiGrid(const TerzaghiGrid& grid, std::vector<AccuracyRun>& rows) {
       continue;
     }
     const double H = geometry->drainage_length_m;
-    for (const Choice& choice : choices) {
+    for (const SolverChoice& choice : choices) {
       const double n_s = choice.storage == StorageVolumeKind::kPore ? geometry->porosity : 1.0;
       // m_v = 0: c_v = k / (mu n_s / K_f).
       const double c_v = k * kBulkModulus / (kViscosity * n_s);
