@@ -34,21 +34,26 @@ Status ContactApertureUpdater::Bind(const FlowNetwork& network,
     max_contact = std::max(max_contact, pipe_contact[p]);
   }
   pipe_contact_.assign(pipe_contact.begin(), pipe_contact.end());
+  keep_.resize(pipe_contact.size());
+  for (std::size_t p = 0; p < pipe_contact.size(); ++p) keep_[p] = pipe_contact[p] < 0 ? 1.0 : 0.0;
   max_contact_ = max_contact;
   aperture_.assign(network.pipe_aperture().begin(), network.pipe_aperture().end());
   return Status::Ok();
+}
+
+Status ContactApertureUpdater::CheckBound(std::size_t num_pipes) const {
+  if (num_pipes == pipe_contact_.size()) return Status::Ok();
+  return FailedPrecondition("coupling.contact_apertures: the network has " +
+                            std::to_string(num_pipes) + " pipes but the updater was bound to " +
+                            std::to_string(pipe_contact_.size()) +
+                            " (call Bind after every topology change)");
 }
 
 Result<ContactApertureReport> ContactApertureUpdater::Update(FlowNetwork& network,
                                                              std::span<const double> normal_force,
                                                              std::span<const double> gap) {
   const std::size_t num_pipes = network.num_pipes();
-  if (num_pipes != pipe_contact_.size()) {
-    return FailedPrecondition("coupling.contact_apertures: the network has " +
-                              std::to_string(num_pipes) + " pipes but the updater was bound to " +
-                              std::to_string(pipe_contact_.size()) +
-                              " (call Bind after every topology change)");
-  }
+  SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
   const std::size_t needed = static_cast<std::size_t>(max_contact_ + 1);
   if (normal_force.size() < needed || gap.size() < needed) {
     return InvalidArgument("coupling.contact_apertures: normal_force and gap have " +
@@ -56,26 +61,61 @@ Result<ContactApertureReport> ContactApertureUpdater::Update(FlowNetwork& networ
                            std::to_string(gap.size()) + " entries; contact ids up to " +
                            std::to_string(max_contact_) + " are bound");
   }
-  const std::span<const double> current = network.pipe_aperture();
-  ContactApertureReport report;
+  // Per contact -> per pipe (pipes bound to no contact read 0: UpdatePerPipe ignores them).
+  pipe_force_.resize(num_pipes);
+  pipe_gap_.resize(num_pipes);
   for (std::size_t p = 0; p < num_pipes; ++p) {
     const std::int32_t c = pipe_contact_[p];
-    if (c < 0) {
-      aperture_[p] = current[p];
-      continue;
-    }
-    const double f = normal_force[static_cast<std::size_t>(c)];
-    const double g = gap[static_cast<std::size_t>(c)];
-    if (!std::isfinite(f) || !std::isfinite(g)) {
-      return InvalidArgument("coupling.contact_apertures: contact " + std::to_string(c) +
-                             " (pipe " + std::to_string(p) +
-                             "): normal_force and gap must be finite (got " + std::to_string(f) +
-                             ", " + std::to_string(g) + ")");
-    }
-    const double a = Aperture(law_, f, g);
-    aperture_[p] = a;
-    report.pipes_changed += a != current[p];
+    pipe_force_[p] = c < 0 ? 0.0 : normal_force[static_cast<std::size_t>(c)];
+    pipe_gap_[p] = c < 0 ? 0.0 : gap[static_cast<std::size_t>(c)];
   }
+  return UpdatePerPipe(network, pipe_force_, pipe_gap_);
+}
+
+Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
+    FlowNetwork& network, std::span<const double> pipe_force, std::span<const double> pipe_gap) {
+  const std::size_t num_pipes = network.num_pipes();
+  SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
+  if (pipe_force.size() != num_pipes || pipe_gap.size() != num_pipes) {
+    return InvalidArgument("coupling.contact_apertures: pipe_force and pipe_gap have " +
+                           std::to_string(pipe_force.size()) + " and " +
+                           std::to_string(pipe_gap.size()) + " entries, expected " +
+                           std::to_string(num_pipes) + " (one per pipe)");
+  }
+  const double* __restrict current = network.pipe_aperture().data();
+  const double* __restrict force = pipe_force.data();
+  const double* __restrict gap = pipe_gap.data();
+  const double* __restrict keep = keep_.data();
+  double* __restrict out = aperture_.data();
+  const ApertureLaw law = law_;
+  // Branch-free so that it vectorises: both branches of the law, then a select (aperture_law.h).
+  double changed = 0.0, bad = 0.0;
+  const auto n = static_cast<std::ptrdiff_t>(num_pipes);
+  for (std::ptrdiff_t p = 0; p < n; ++p) {
+    const double f = force[p], g = gap[p];
+    // x - x is 0 exactly for finite x and NaN otherwise (isfinite would stop the vectoriser).
+    const bool finite = (keep[p] != 0.0) | ((f - f == 0.0) & (g - g == 0.0));
+    bad += finite ? 0.0 : 1.0;
+    const double by_force =
+        law.residual_aperture * law.reference_force / (std::max(f, 0.0) + law.reference_force);
+    const double by_gap = law.residual_aperture + law.gap_multiplier * std::max(g, 0.0);
+    double a = f > 0.0 ? by_force : by_gap;
+    a = a < law.max_aperture ? a : law.max_aperture;
+    a = keep[p] != 0.0 ? current[p] : a;
+    out[p] = a;
+    changed += a != current[p] ? 1.0 : 0.0;
+  }
+  if (bad > 0.0) {
+    for (std::size_t p = 0; p < num_pipes; ++p) {
+      if (keep_[p] != 0.0 || (std::isfinite(pipe_force[p]) && std::isfinite(pipe_gap[p]))) continue;
+      return InvalidArgument(
+          "coupling.contact_apertures: contact " + std::to_string(pipe_contact_[p]) + " (pipe " +
+          std::to_string(p) + "): normal_force and gap must be finite (got " +
+          std::to_string(pipe_force[p]) + ", " + std::to_string(pipe_gap[p]) + ")");
+    }
+  }
+  ContactApertureReport report;
+  report.pipes_changed = static_cast<std::int64_t>(changed);
   if (report.pipes_changed == 0) return report;
   SEEP_RETURN_IF_ERROR(network.SetApertures(aperture_, viscosity_));
   report.network_written = true;

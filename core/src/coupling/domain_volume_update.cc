@@ -17,57 +17,92 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 struct LoopMeasure {
   double signed_area = 0.0;  // shoelace over the centres (> 0 for a CCW loop)
-  double sector = 0.0;       // sum of (theta/2) R^2 over the face's wedges
-  double half_lens = 0.0;    // sum of half the overlap lens of each loop contact
+  double pore_terms = 0.0;   // sum over the loop's edges of (half lens - turn term), see Compute
 };
 
-// Half the lens of an overlapping pair, computed as the detector does from the contact gap.
-double HalfLens(const ParticleView& p, std::int32_t a, std::int32_t b) {
-  const std::size_t lo = static_cast<std::size_t>(a < b ? a : b);
-  const std::size_t hi = static_cast<std::size_t>(a < b ? b : a);
-  const double dx = p.x[hi] - p.x[lo];
-  const double dy = p.y[hi] - p.y[lo];
+// Half the lens of the pair lo < hi with centre offset (dx, dy), by LensArea's formulas, when the
+// overlap is shallow (chord half-length below R/16 on both disks, both segments minor: every
+// DEM contact) or absent (the Heron product clamps to 0, so h = 0 and so is the series): sets
+// *half and returns true without a branch; otherwise returns false (use HalfLens).
+inline bool ShallowHalfLens(double r_lo, double r_hi, double inv_r_lo, double inv_r_hi, double dx,
+                            double dy, double* half) {
   const double d2 = dx * dx + dy * dy;
-  const double sum = p.radius[lo] + p.radius[hi];
-  if (!(d2 < sum * sum)) return 0.0;  // apart or touching: no square root on the common path
-  const double gap = std::sqrt(d2) - p.radius[lo] - p.radius[hi];
-  if (!(gap < 0.0)) return 0.0;
-  return 0.5 * LensArea(p.radius[lo], p.radius[hi], p.radius[lo] + p.radius[hi] + gap);
+  const double sum = r_lo + r_hi;
+  const double d = std::sqrt(d2);
+  const double diff = r_lo - r_hi;
+  const double inv_2d = 0.5 / d;
+  const double a_lo = (d2 + r_lo * r_lo - r_hi * r_hi) * inv_2d;  // centre lo to the chord
+  const double a_hi = d - a_lo;
+  const double h =
+      std::sqrt(std::max(0.0, (sum + d) * (sum - d) * (d + diff) * (d - diff))) * inv_2d;
+  const double t_lo = h * inv_r_lo;
+  const double t_hi = h * inv_r_hi;
+  *half =
+      0.5 * (r_lo * r_lo * MinorSegmentUnitSmall(t_lo) + r_hi * r_hi * MinorSegmentUnitSmall(t_hi));
+  return (d > std::abs(diff)) & (a_lo >= 0.0) & (a_hi >= 0.0) & (t_lo < 0.0625) & (t_hi < 0.0625);
 }
 
-LoopMeasure MeasureLoop(const ParticleView& p, const std::int32_t* loop, std::size_t begin,
+// Half the lens of any pair (LensArea for what ShallowHalfLens does not cover).
+inline double HalfLens(double r_lo, double r_hi, double inv_r_lo, double inv_r_hi, double dx,
+                       double dy) {
+  double half = 0.0;
+  if (ShallowHalfLens(r_lo, r_hi, inv_r_lo, inv_r_hi, dx, dy, &half)) return half;
+  return 0.5 * LensArea(r_lo, r_hi, std::sqrt(dx * dx + dy * dy));
+}
+
+// atan z for |z| <= 1/32: z (1 - z^2/3 + z^4/5 - z^6/7 + z^8/9), whose first omitted term is
+// below 3e-18 rad: far under the round-off of the angles it is added to. Estrin's scheme in
+// w = -z^2 (a short chain of dependent operations, see disk_overlap.h).
+inline double SmallTurn(double z) {
+  const double w = -z * z;
+  const double w2 = w * w;
+  return z *
+         (((1.0 + w * (1.0 / 3.0)) + (1.0 / 5.0 + w * (1.0 / 7.0)) * w2) + (1.0 / 9.0) * (w2 * w2));
+}
+
+// The angle (-pi, pi] that turns a vector e0 into e, from cross = e0 x e and dot = e0 . e.
+// Edges turn little between detections, so the common case is a short series instead of atan2.
+constexpr double kSmallTurn = 1.0 / 32.0;
+inline double TurnAngle(double cross, double dot) {
+  if (dot > 0.0 && std::abs(cross) <= kSmallTurn * dot) return SmallTurn(cross / dot);
+  return std::atan2(cross, dot);
+}
+
+// Face angle at w: the CCW sweep from the outgoing edge w->u to the incoming edge's reverse w->v,
+// in [0, 2 pi), which handles reflex vertices. One atan2 of (cross, dot) instead of the
+// detector's difference of two edge angles: the same angle to round-off.
+double WedgeAngle(const double* x, const double* y, std::size_t v, std::size_t w, std::size_t u) {
+  const double in_x = x[v] - x[w], in_y = y[v] - y[w];
+  const double out_x = x[u] - x[w], out_y = y[u] - y[w];
+  double theta = std::atan2(out_x * in_y - out_y * in_x, out_x * in_x + out_y * in_y);
+  if (theta < 0.0) theta += kTwoPi;
+  return theta;
+}
+
+// kPore = false: the shoelace alone (V_d), with the same summation as kPore = true.
+// entry_term[q] = 2 e + (1 if the loop walks edge e from hi to lo): the pore term of entry q.
+template <bool kPore>
+LoopMeasure MeasureLoop(const ParticleView& p, const std::int32_t* loop,
+                        const std::int32_t* entry_term, const double* term, std::size_t begin,
                         std::size_t end) {
   LoopMeasure m;
   if (end <= begin) return m;
-  const std::size_t count = end - begin;
   const double* x = p.x.data();
   const double* y = p.y.data();
-  const double* r = p.radius.data();
   const std::size_t v0 = static_cast<std::size_t>(loop[begin]);
   const double x0 = x[v0];
   const double y0 = y[v0];
+  // Shoelace relative to the first vertex, as the detector, to keep precision far from 0; each
+  // centre is read once (the head of one edge is the tail of the next).
+  double ax = 0.0, ay = 0.0;
   double twice_area = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    // Cyclic successors without a division per entry.
-    const std::size_t k1 = k + 1 < count ? k + 1 : k + 1 - count;
-    const std::size_t k2 = k1 + 1 < count ? k1 + 1 : k1 + 1 - count;
-    const std::size_t v = static_cast<std::size_t>(loop[begin + k]);
-    const std::size_t w = static_cast<std::size_t>(loop[begin + k1]);
-    const std::size_t u = static_cast<std::size_t>(loop[begin + k2]);
-    // Shoelace relative to the first vertex, as the detector, to keep precision far from 0.
-    const double ax = x[v] - x0, ay = y[v] - y0;
+  for (std::size_t q = begin; q < end; ++q) {
+    const std::size_t w = static_cast<std::size_t>(loop[q + 1 < end ? q + 1 : begin]);
     const double bx = x[w] - x0, by = y[w] - y0;
     twice_area += ax * by - bx * ay;
-    m.half_lens += HalfLens(p, static_cast<std::int32_t>(v), static_cast<std::int32_t>(w));
-    // Face angle at w: the CCW sweep from the outgoing edge w->u to the incoming edge's reverse
-    // w->v, in [0, 2 pi), which handles reflex vertices.
-    // One atan2 of (cross, dot) instead of the detector's difference of two edge angles: the
-    // same angle to round-off at half the cost.
-    const double in_x = x[v] - x[w], in_y = y[v] - y[w];
-    const double out_x = x[u] - x[w], out_y = y[u] - y[w];
-    double theta = std::atan2(out_x * in_y - out_y * in_x, out_x * in_x + out_y * in_y);
-    if (theta < 0.0) theta += kTwoPi;
-    m.sector += 0.5 * theta * r[w] * r[w];
+    ax = bx;
+    ay = by;
+    if constexpr (kPore) m.pore_terms += term[entry_term[q]];
   }
   m.signed_area = 0.5 * twice_area;
   return m;
@@ -89,6 +124,12 @@ Status CheckIds(std::span<const std::int32_t> ids, std::size_t n, const char* fi
 Status DomainVolumeUpdater::Check(const ParticleView& particles, const DomainNetwork& network,
                                   std::size_t volumes) const {
   SEEP_RETURN_IF_ERROR(CheckParticleView(particles, "coupling.domain_volume.particles"));
+  if (bound_particles_ != 0 && particles.size() != bound_particles_) {
+    return FailedPrecondition(
+        "coupling.domain_volume.particles: " + std::to_string(particles.size()) +
+        " particles, the updater was " + "bound with " + std::to_string(bound_particles_) +
+        " (call Bind after every detection)");
+  }
   const std::size_t num_domains = network.num_domains();
   if (volumes != num_domains) {
     return InvalidArgument("coupling.domain_volume: volume arrays have " + std::to_string(volumes) +
@@ -102,8 +143,6 @@ Status DomainVolumeUpdater::Check(const ParticleView& particles, const DomainNet
       network.outer_host_domain.size() != network.num_outer_faces()) {
     return InvalidArgument("coupling.domain_volume.network: loop offsets do not match the loops");
   }
-  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, particles.size(), "loop_particles"));
-  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, particles.size(), "outer_particles"));
   for (const std::int32_t host : network.outer_host_domain) {
     if (host >= static_cast<std::int32_t>(num_domains)) {
       return InvalidArgument("coupling.domain_volume.network.outer_host_domain: domain " +
@@ -113,17 +152,24 @@ Status DomainVolumeUpdater::Check(const ParticleView& particles, const DomainNet
   return Status::Ok();
 }
 
+// V_p = V_d - sector + sum of half lenses, with sector = sum_w (theta_w/2) R_w^2 over the wedges.
+// theta_w is its value at Bind plus the turn of the edge into w minus the turn of the edge out of
+// it, so regrouped per edge: sector = sector0 + sum_edges dir (turn/2)(R_hi^2 - R_lo^2), where
+// sector0 is the sector sum at Bind and dir = +1 where the loop walks the edge lo -> hi. Each edge
+// carries one term per direction (ComputeEdgeTerms) and each loop entry adds one of them.
+template <bool kPore>
 void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
                                            const DomainNetwork& network,
                                            std::span<double> apparent_volume,
                                            std::span<double> pore_volume) const {
+  const double* term = edge_term_.data();
   const std::int32_t* loops = network.loop_particles.data();
   for (std::size_t d = 0; d < network.num_domains(); ++d) {
-    const LoopMeasure m =
-        MeasureLoop(particles, loops, static_cast<std::size_t>(network.loop_offsets[d]),
-                    static_cast<std::size_t>(network.loop_offsets[d + 1]));
+    const LoopMeasure m = MeasureLoop<kPore>(particles, loops, loop_entry_term_.data(), term,
+                                             static_cast<std::size_t>(network.loop_offsets[d]),
+                                             static_cast<std::size_t>(network.loop_offsets[d + 1]));
     apparent_volume[d] = m.signed_area;
-    pore_volume[d] = m.signed_area - m.sector + m.half_lens;
+    if constexpr (kPore) pore_volume[d] = m.signed_area - loop_sector_[d] + m.pore_terms;
   }
   // Islands: the host loses the area inside the island's outer walk (traced clockwise, so its
   // signed area is negative) and, from V_p, the island's solid outside that walk.
@@ -132,12 +178,198 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
     const std::int32_t host = network.outer_host_domain[k];
     if (host < 0) continue;
     const LoopMeasure m =
-        MeasureLoop(particles, outer, static_cast<std::size_t>(network.outer_offsets[k]),
-                    static_cast<std::size_t>(network.outer_offsets[k + 1]));
+        MeasureLoop<kPore>(particles, outer, outer_entry_term_.data(), term,
+                           static_cast<std::size_t>(network.outer_offsets[k]),
+                           static_cast<std::size_t>(network.outer_offsets[k + 1]));
     const double inside = -m.signed_area;
     apparent_volume[static_cast<std::size_t>(host)] -= inside;
-    pore_volume[static_cast<std::size_t>(host)] -= inside + (m.sector - m.half_lens);
+    if constexpr (kPore) {
+      pore_volume[static_cast<std::size_t>(host)] -= inside + (outer_sector_[k] - m.pore_terms);
+    }
   }
+}
+
+namespace {
+
+// Sector sum at the Bind angles with the radii r, per face (CSR offsets over the loop entries).
+void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
+                   const std::vector<double>& theta0, const double* r, std::vector<double>* out) {
+  out->assign(offsets.empty() ? 0 : offsets.size() - 1, 0.0);
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+    const auto begin = static_cast<std::size_t>(offsets[f]);
+    const auto end = static_cast<std::size_t>(offsets[f + 1]);
+    double sector = 0.0;
+    for (std::size_t q = begin; q < end; ++q) {
+      const auto w = static_cast<std::size_t>(loop[q + 1 < end ? q + 1 : begin]);
+      sector += 0.5 * theta0[q] * r[w] * r[w];
+    }
+    (*out)[f] = sector;
+  }
+}
+
+}  // namespace
+
+void DomainVolumeUpdater::PrepareSectors(const ParticleView& particles,
+                                         const DomainNetwork& network) const {
+  same_radii_ = std::equal(particles.radius.begin(), particles.radius.end(), bind_radius_.begin(),
+                           bind_radius_.end());
+  if (same_radii_) {
+    loop_sector_ = bind_loop_sector_;
+    outer_sector_ = bind_outer_sector_;
+    return;
+  }
+  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_theta0_, particles.radius.data(),
+                &loop_sector_);
+  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_theta0_,
+                particles.radius.data(), &outer_sector_);
+}
+
+void DomainVolumeUpdater::ComputeEdgeTerms(const ParticleView& particles) const {
+  // 1/R from Bind while the radii are those of Bind (a DEM's are), else divided afresh.
+  if (same_radii_) {
+    ComputeEdgeTermsWith<true>(particles);
+  } else {
+    ComputeEdgeTermsWith<false>(particles);
+  }
+}
+
+template <bool kBindRadii>
+void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) const {
+  const double* __restrict x = particles.x.data();
+  const double* __restrict y = particles.y.data();
+  const double* __restrict r = particles.radius.data();
+  const std::int32_t* __restrict lo_of = edge_lo_.data();
+  const std::int32_t* __restrict hi_of = edge_hi_.data();
+  const double* __restrict x0 = edge_x0_.data();
+  const double* __restrict y0 = edge_y0_.data();
+  double* __restrict term = edge_term_.data();
+  double* __restrict slow = edge_slow_.data();
+  const auto edges = static_cast<std::ptrdiff_t>(edge_lo_.size());
+  // Pass 0 gathers what each edge reads into contiguous arrays (no gathers in SSE2 vectors).
+  double* __restrict gx = edge_dx_.data();
+  double* __restrict gy = edge_dy_.data();
+  double* __restrict g_lo = edge_rlo_.data();
+  double* __restrict g_hi = edge_rhi_.data();
+  const double* __restrict inv_lo = edge_inv_r_lo_.data();
+  const double* __restrict inv_hi = edge_inv_r_hi_.data();
+  for (std::ptrdiff_t e = 0; e < edges; ++e) {
+    const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
+    gx[e] = x[hi] - x[lo];
+    gy[e] = y[hi] - y[lo];
+    g_lo[e] = r[lo];
+    g_hi[e] = r[hi];
+  }
+  // Pass 1, branch-free so that it vectorises: every edge as if it took the short series of
+  // both TurnAngle and HalfLens; the edges outside their range are flagged.
+#pragma omp simd
+  for (std::ptrdiff_t e = 0; e < edges; ++e) {
+    const double dx = gx[e];
+    const double dy = gy[e];
+    const double cross = x0[e] * dy - y0[e] * dx;
+    const double dot = x0[e] * dx + y0[e] * dy;
+    // Bitwise & on the conditions: no short-circuit branches in the vector loop.
+    const bool turn_ok = (dot > 0.0) & (std::abs(cross) <= kSmallTurn * dot);
+    const double turn = SmallTurn(cross / std::max(dot, 1e-300));
+    const double r_lo = g_lo[e], r_hi = g_hi[e];
+    double half_lens = 0.0;
+    const bool lens_ok = ShallowHalfLens(r_lo, r_hi, kBindRadii ? inv_lo[e] : 1.0 / r_lo,
+                                         kBindRadii ? inv_hi[e] : 1.0 / r_hi, dx, dy, &half_lens);
+    const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
+    term[2 * e] = half_lens - sector_turn;      // walked lo -> hi
+    term[2 * e + 1] = half_lens + sector_turn;  // walked hi -> lo
+    slow[e] = (turn_ok & lens_ok) ? 0.0 : 1.0;  // a double: a byte store stops the vectoriser
+  }
+  // Pass 2: the flagged few (a large turn since Bind, a deep overlap) with atan2 and LensArea.
+  for (std::ptrdiff_t e = 0; e < edges; ++e) {
+    if (slow[e] == 0.0) continue;
+    const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
+    const double dx = x[hi] - x[lo];
+    const double dy = y[hi] - y[lo];
+    const double turn = TurnAngle(x0[e] * dy - y0[e] * dx, x0[e] * dx + y0[e] * dy);
+    const double r_lo = r[lo], r_hi = r[hi];
+    const double half_lens = HalfLens(r_lo, r_hi, 1.0 / r_lo, 1.0 / r_hi, dx, dy);
+    const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
+    term[2 * e] = half_lens - sector_turn;
+    term[2 * e + 1] = half_lens + sector_turn;
+  }
+}
+
+Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const DomainNetwork& network) {
+  const auto bind_loops =
+      [&](std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
+          std::span<const std::int32_t> contacts, const char* field,
+          std::vector<std::int32_t>* entry_term, std::vector<double>* theta0) -> Status {
+    entry_term->assign(loop.size(), -1);
+    theta0->assign(loop.size(), 0.0);
+    for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+      const auto begin = static_cast<std::size_t>(offsets[f]);
+      const auto end = static_cast<std::size_t>(offsets[f + 1]);
+      for (std::size_t q = begin; q < end; ++q) {
+        const std::size_t q1 = q + 1 < end ? q + 1 : begin;
+        const std::size_t q2 = q1 + 1 < end ? q1 + 1 : begin;
+        const std::int32_t a = loop[q], b = loop[q1];
+        const std::int32_t lo = std::min(a, b), hi = std::max(a, b);
+        const std::int32_t c = contacts[q];
+        if (c < 0) {
+          return InvalidArgument(std::string("coupling.domain_volume.network.") + field + "[" +
+                                 std::to_string(q) + "]: contact id " + std::to_string(c) +
+                                 " is negative");
+        }
+        const auto cu = static_cast<std::size_t>(c);
+        if (cu >= edge_of_contact_.size()) edge_of_contact_.resize(cu + 1, -1);
+        std::int32_t& edge = edge_of_contact_[cu];
+        if (edge < 0) {
+          edge = static_cast<std::int32_t>(edge_lo_.size());
+          edge_lo_.push_back(lo);
+          edge_hi_.push_back(hi);
+          edge_x0_.push_back(particles.x[static_cast<std::size_t>(hi)] -
+                             particles.x[static_cast<std::size_t>(lo)]);
+          edge_y0_.push_back(particles.y[static_cast<std::size_t>(hi)] -
+                             particles.y[static_cast<std::size_t>(lo)]);
+        } else if (edge_lo_[static_cast<std::size_t>(edge)] != lo ||
+                   edge_hi_[static_cast<std::size_t>(edge)] != hi) {
+          return InvalidArgument(std::string("coupling.domain_volume.network.") + field + "[" +
+                                 std::to_string(q) + "]: contact " + std::to_string(c) +
+                                 " joins other particles elsewhere in the loops");
+        }
+        (*entry_term)[q] = 2 * edge + (a < b ? 0 : 1);
+        (*theta0)[q] =
+            WedgeAngle(particles.x.data(), particles.y.data(), static_cast<std::size_t>(a),
+                       static_cast<std::size_t>(b), static_cast<std::size_t>(loop[q2]));
+      }
+    }
+    return Status::Ok();
+  };
+  edge_of_contact_.clear();
+  edge_lo_.clear();
+  edge_hi_.clear();
+  edge_x0_.clear();
+  edge_y0_.clear();
+  SEEP_RETURN_IF_ERROR(bind_loops(network.loop_offsets, network.loop_particles,
+                                  network.loop_contacts, "loop_contacts", &loop_entry_term_,
+                                  &loop_theta0_));
+  SEEP_RETURN_IF_ERROR(bind_loops(network.outer_offsets, network.outer_particles,
+                                  network.outer_contacts, "outer_contacts", &outer_entry_term_,
+                                  &outer_theta0_));
+  const std::size_t edges = edge_lo_.size();
+  edge_term_.assign(2 * edges, 0.0);
+  edge_slow_.assign(edges, 0);
+  edge_inv_r_lo_.resize(edges);
+  edge_inv_r_hi_.resize(edges);
+  for (std::size_t e = 0; e < edges; ++e) {
+    edge_inv_r_lo_[e] = 1.0 / particles.radius[static_cast<std::size_t>(edge_lo_[e])];
+    edge_inv_r_hi_[e] = 1.0 / particles.radius[static_cast<std::size_t>(edge_hi_[e])];
+  }
+  edge_dx_.assign(edges, 0.0);
+  edge_dy_.assign(edges, 0.0);
+  edge_rlo_.assign(edges, 0.0);
+  edge_rhi_.assign(edges, 0.0);
+  bind_radius_.assign(particles.radius.begin(), particles.radius.end());
+  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_theta0_, particles.radius.data(),
+                &bind_loop_sector_);
+  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_theta0_,
+                particles.radius.data(), &bind_outer_sector_);
+  return Status::Ok();
 }
 
 Status DomainVolumeUpdater::Bind(const ParticleView& particles, const DomainNetwork& network) {
@@ -147,32 +379,64 @@ Status DomainVolumeUpdater::Bind(const ParticleView& particles, const DomainNetw
                            std::to_string(network.pore_volume.size()) + " entries, expected " +
                            std::to_string(num_domains));
   }
+  bound_particles_ = 0;
+  rattler_correction_.clear();
   SEEP_RETURN_IF_ERROR(Check(particles, network, num_domains));
+  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, particles.size(), "loop_particles"));
+  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, particles.size(), "outer_particles"));
+  if (network.loop_contacts.size() != network.loop_particles.size() ||
+      network.outer_contacts.size() != network.outer_particles.size()) {
+    return InvalidArgument(
+        "coupling.domain_volume.network: loop contacts do not match the loop particles");
+  }
+  SEEP_RETURN_IF_ERROR(BindEdges(particles, network));
+  bound_particles_ = particles.size();
   std::vector<double> apparent(num_domains);
   rattler_correction_.assign(num_domains, 0.0);
-  ComputeGeometric(particles, network, apparent, rattler_correction_);
+  // At the bind positions every turn is 0: the wedge angles are the atan2 values themselves.
+  PrepareSectors(particles, network);
+  ComputeEdgeTerms(particles);
+  ComputeGeometric<true>(particles, network, apparent, rattler_correction_);
   for (std::size_t d = 0; d < num_domains; ++d) {
     rattler_correction_[d] = network.pore_volume[d] - rattler_correction_[d];
   }
   return Status::Ok();
 }
 
+Status DomainVolumeUpdater::CheckBound(const DomainNetwork& network) const {
+  if (network.num_domains() == rattler_correction_.size() &&
+      network.loop_particles.size() == loop_entry_term_.size() &&
+      network.outer_particles.size() == outer_entry_term_.size()) {
+    return Status::Ok();
+  }
+  return FailedPrecondition(
+      "coupling.domain_volume: the network has " + std::to_string(network.num_domains()) +
+      " domains but the updater was bound to one with " +
+      std::to_string(rattler_correction_.size()) + " (call Bind after every detection)");
+}
+
 Status DomainVolumeUpdater::Compute(const ParticleView& particles, const DomainNetwork& network,
                                     std::span<double> apparent_volume,
                                     std::span<double> pore_volume) const {
-  if (network.num_domains() != rattler_correction_.size()) {
-    return FailedPrecondition(
-        "coupling.domain_volume: the network has " + std::to_string(network.num_domains()) +
-        " domains but the updater was bound to one with " +
-        std::to_string(rattler_correction_.size()) + " (call Bind after every detection)");
-  }
+  SEEP_RETURN_IF_ERROR(CheckBound(network));
   if (pore_volume.size() != apparent_volume.size()) {
     return InvalidArgument(
         "coupling.domain_volume: apparent_volume and pore_volume differ in size");
   }
   SEEP_RETURN_IF_ERROR(Check(particles, network, apparent_volume.size()));
-  ComputeGeometric(particles, network, apparent_volume, pore_volume);
+  PrepareSectors(particles, network);
+  ComputeEdgeTerms(particles);
+  ComputeGeometric<true>(particles, network, apparent_volume, pore_volume);
   for (std::size_t d = 0; d < pore_volume.size(); ++d) pore_volume[d] += rattler_correction_[d];
+  return Status::Ok();
+}
+
+Status DomainVolumeUpdater::ComputeApparent(const ParticleView& particles,
+                                            const DomainNetwork& network,
+                                            std::span<double> apparent_volume) const {
+  SEEP_RETURN_IF_ERROR(CheckBound(network));
+  SEEP_RETURN_IF_ERROR(Check(particles, network, apparent_volume.size()));
+  ComputeGeometric<false>(particles, network, apparent_volume, {});
   return Status::Ok();
 }
 

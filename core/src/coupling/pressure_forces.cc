@@ -28,27 +28,25 @@ Status CheckIds(std::span<const std::int32_t> ids, std::size_t n, const char* fi
   return Status::Ok();
 }
 
-// Adds the chord forces of the loop entries [begin, end) of `particles_of_loop`; pressure(q)
-// gives the pressure on the arc at entry q.
-template <typename PressureAt>
-void AddLoopForces(const ParticleView& p, const std::int32_t* loop, std::size_t begin,
-                   std::size_t end, PressureAt pressure, double* fx, double* fy) {
-  if (end <= begin) return;
-  // Arm of loop[begin] towards its predecessor (the last entry, cyclically).
-  const ContactArms closing = ComputeContactArms(p, loop[end - 1], loop[begin]);
-  double prev_x = closing.bx;
-  double prev_y = closing.by;
-  for (std::size_t q = begin; q < end; ++q) {
-    const std::int32_t k = loop[q];
-    const std::int32_t next = loop[q + 1 < end ? q + 1 : begin];
-    const ContactArms arms = ComputeContactArms(p, k, next);
-    const double tx = arms.ax - prev_x;
-    const double ty = arms.ay - prev_y;
-    const double pk = pressure(q);
-    fx[k] += pk * ty;
-    fy[k] -= pk * tx;
-    prev_x = arms.bx;
-    prev_y = arms.by;
+// One walk of a face along a loop contact: u -> v, with the slots of u's and v's arcs.
+struct Traversal {
+  std::int32_t contact, u, v, slot_u, slot_v;
+};
+
+// The walks of the loops in CSR form [offsets, particles, contacts); `arc_slot(q)` gives the slot
+// of the arc at entry q.
+template <typename ArcSlot>
+void AppendTraversals(std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
+                      std::span<const std::int32_t> contacts, ArcSlot arc_slot,
+                      std::vector<Traversal>* out) {
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+    const auto begin = static_cast<std::size_t>(offsets[f]);
+    const auto end = static_cast<std::size_t>(offsets[f + 1]);
+    for (std::size_t q = begin; q < end; ++q) {
+      const std::size_t next = q + 1 < end ? q + 1 : begin;
+      out->push_back(
+          Traversal{contacts[q], loop[q], loop[next], arc_slot(f, q), arc_slot(f, next)});
+    }
   }
 }
 
@@ -71,6 +69,18 @@ Status AddPressureForces(const ParticleView& particles, const DomainNetwork& net
     return InvalidArgument(SizeMessage("outer_arc_pressure", outer_arc_pressure.size(),
                                        network.outer_particles.size(), "outer-loop entry"));
   }
+  PressureForceKernel kernel;
+  SEEP_RETURN_IF_ERROR(kernel.Bind(network, n));
+  std::vector<double> slots(kernel.num_slots(), 0.0);
+  std::copy(domain_pressure.begin(), domain_pressure.end(), slots.begin());
+  std::copy(outer_arc_pressure.begin(), outer_arc_pressure.end(),
+            slots.begin() + static_cast<std::ptrdiff_t>(num_domains));
+  kernel.Apply(particles, slots.data(), fx.data(), fy.data());
+  return Status::Ok();
+}
+
+Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_particles) {
+  const std::size_t num_domains = network.num_domains();
   if (network.loop_offsets.size() != num_domains + 1 ||
       static_cast<std::size_t>(network.loop_offsets.back()) != network.loop_particles.size() ||
       network.outer_offsets.size() != network.num_outer_faces() + 1 ||
@@ -78,29 +88,65 @@ Status AddPressureForces(const ParticleView& particles, const DomainNetwork& net
     return InvalidArgument(
         "coupling.pressure_forces.network: loop offsets do not match the loop arrays");
   }
-  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, n, "loop_particles"));
-  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, n, "outer_particles"));
-
-  const std::int32_t* loops = network.loop_particles.data();
-  double* out_x = fx.data();
-  double* out_y = fy.data();
-  for (std::size_t d = 0; d < num_domains; ++d) {
-    const double pressure = domain_pressure[d];
-    AddLoopForces(
-        particles, loops, static_cast<std::size_t>(network.loop_offsets[d]),
-        static_cast<std::size_t>(network.loop_offsets[d + 1]),
-        [pressure](std::size_t) { return pressure; }, out_x, out_y);
+  if (network.loop_contacts.size() != network.loop_particles.size() ||
+      network.outer_contacts.size() != network.outer_particles.size()) {
+    return InvalidArgument(
+        "coupling.pressure_forces.network: loop contacts do not match the loop particles");
   }
-  if (outer_arc_pressure.empty()) return Status::Ok();
-  const std::int32_t* outer = network.outer_particles.data();
-  const double* arc = outer_arc_pressure.data();
-  for (std::size_t k = 0; k < network.num_outer_faces(); ++k) {
-    AddLoopForces(
-        particles, outer, static_cast<std::size_t>(network.outer_offsets[k]),
-        static_cast<std::size_t>(network.outer_offsets[k + 1]),
-        [arc](std::size_t q) { return arc[q]; }, out_x, out_y);
+  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, num_particles, "loop_particles"));
+  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, num_particles, "outer_particles"));
+  std::vector<Traversal> walks;
+  walks.reserve(network.loop_particles.size() + network.outer_particles.size());
+  AppendTraversals(
+      network.loop_offsets, network.loop_particles, network.loop_contacts,
+      [](std::size_t face, std::size_t) { return static_cast<std::int32_t>(face); }, &walks);
+  AppendTraversals(
+      network.outer_offsets, network.outer_particles, network.outer_contacts,
+      [num_domains](std::size_t, std::size_t q) {
+        return static_cast<std::int32_t>(num_domains + q);
+      },
+      &walks);
+  // Per contact: the lo -> hi walk first, then the hi -> lo one.
+  std::sort(walks.begin(), walks.end(), [](const Traversal& a, const Traversal& b) {
+    return a.contact < b.contact || (a.contact == b.contact && (a.u < a.v) > (b.u < b.v));
+  });
+  terms_.clear();
+  terms_.reserve(walks.size() / 2);
+  for (std::size_t k = 0; k < walks.size();) {
+    const Traversal& fwd = walks[k];
+    const bool paired = k + 1 < walks.size() && walks[k + 1].contact == fwd.contact &&
+                        fwd.u < fwd.v && walks[k + 1].u == fwd.v && walks[k + 1].v == fwd.u &&
+                        (k + 2 >= walks.size() || walks[k + 2].contact != fwd.contact);
+    if (!paired) {
+      return Internal("coupling.pressure_forces.network: contact " + std::to_string(fwd.contact) +
+                      " is not walked exactly once in each direction by the face loops");
+    }
+    const Traversal& bwd = walks[k + 1];
+    terms_.push_back(ContactTerms{fwd.u, fwd.v, fwd.slot_u, bwd.slot_v, bwd.slot_u, fwd.slot_v});
+    k += 2;
   }
+  num_slots_ = num_domains + network.outer_particles.size();
   return Status::Ok();
+}
+
+void PressureForceKernel::Apply(const ParticleView& particles, const double* slot_pressure,
+                                double* fx, double* fy) const {
+  const double* x = particles.x.data();
+  const double* y = particles.y.data();
+  const double* r = particles.radius.data();
+  for (const ContactTerms& t : terms_) {
+    const auto lo = static_cast<std::size_t>(t.lo);
+    const auto hi = static_cast<std::size_t>(t.hi);
+    const double dx = x[hi] - x[lo];
+    const double dy = y[hi] - y[lo];
+    const double f = ContactFraction(r[lo], r[hi], dx * dx + dy * dy);
+    const double k_lo = (slot_pressure[t.forward_lo] - slot_pressure[t.backward_lo]) * f;
+    const double k_hi = (slot_pressure[t.backward_hi] - slot_pressure[t.forward_hi]) * (f - 1.0);
+    fx[lo] += k_lo * dy;
+    fy[lo] -= k_lo * dx;
+    fx[hi] += k_hi * dy;
+    fy[hi] -= k_hi * dx;
+  }
 }
 
 Status OuterArcPressures::Compute(const DomainNetwork& network,

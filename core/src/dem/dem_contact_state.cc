@@ -306,6 +306,7 @@ Status DemContactForces::RestoreState(const DemContactState& s, std::size_t part
   SEEP_RETURN_IF_ERROR(ValidateDemContactState(s, particle_count, wall_count));
 
   needs_rebuild_ = s.needs_rebuild;
+  ++pair_table_version_;
   bond_params_ =
       BondParams{s.bond_normal_stiffness, s.bond_shear_stiffness, s.bond_radius_multiplier,
                  s.bond_tensile_strength, s.bond_shear_strength};

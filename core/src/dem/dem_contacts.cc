@@ -316,6 +316,7 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
     ref_wall_y_[w] = walls[w].py;
   }
   needs_rebuild_ = false;
+  ++pair_table_version_;
   if (counters != nullptr) ++counters->neighbour_rebuilds;
   return Status::Ok();
 }
@@ -578,6 +579,18 @@ void DemContactForces::CollectFlowContacts(double max_gap, ContactList* out) con
     out->i.push_back(e.i);
     out->j.push_back(e.j);
     out->gap.push_back(e.gap);
+  }
+}
+
+void DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
+                                 std::vector<std::int32_t>* index) const {
+  index->assign(i.size(), -1);
+  std::size_t k = 0;
+  for (std::size_t m = 0; m < i.size(); ++m) {
+    while (k < pairs_.size() && KeyLess(pairs_[k].i, pairs_[k].j, i[m], j[m])) ++k;
+    if (k < pairs_.size() && pairs_[k].i == i[m] && pairs_[k].j == j[m]) {
+      (*index)[m] = static_cast<std::int32_t>(k);
+    }
   }
 }
 

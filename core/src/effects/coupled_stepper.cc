@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "effect_factories.h"
@@ -22,15 +23,17 @@ Result<std::unique_ptr<CoupledStepper>> CoupledStepper::Create(const SceneSpec& 
   s.detection_x = s.net.packing.x;
   s.detection_y = s.net.packing.y;
   stepper->effects_ = MakeEffects(stepper->scene_.effects);
-  for (const auto& effect : stepper->effects_) {
-    SEEP_RETURN_IF_ERROR(effect->Bind(s));
-    const std::uint32_t hooks = effect->Hooks();
-    if (hooks & kForceHook) stepper->force_.push_back(effect.get());
-    if (hooks & kPostForceHook) stepper->post_force_.push_back(effect.get());
-    if (hooks & kEndOfStepHook) stepper->end_of_step_.push_back(effect.get());
-    if (effect->Name() == "flow") stepper->flow_effect_ = effect.get();
+  stepper->effect_seconds_.assign(stepper->effects_.size(), 0.0);
+  for (std::size_t k = 0; k < stepper->effects_.size(); ++k) {
+    Effect& effect = *stepper->effects_[k];
+    SEEP_RETURN_IF_ERROR(effect.Bind(s));
+    const std::uint32_t hooks = effect.Hooks();
+    if (hooks & kForceHook) stepper->force_.push_back(k);
+    if (hooks & kPostForceHook) stepper->post_force_.push_back(k);
+    if (hooks & kEndOfStepHook) stepper->end_of_step_.push_back(k);
+    if (effect.Name() == "flow") stepper->flow_effect_ = &effect;
   }
-  if (stepper->force_.empty() || stepper->force_.front()->Name() != "contacts") {
+  if (stepper->force_.empty() || stepper->effects_[stepper->force_.front()]->Name() != "contacts") {
     return Internal("coupled step: the contacts effect must lead the force list");
   }
   if (HasEffect<FluidForcesEffectSpec>(scene) && HasEffect<VolumeChangeEffectSpec>(scene)) {
@@ -51,19 +54,45 @@ Result<std::unique_ptr<CoupledStepper>> CoupledStepper::Create(const SceneSpec& 
 }
 
 std::vector<std::string_view> CoupledStepper::HookList(Hook hook) const {
-  const std::vector<Effect*>& list = hook == kForceHook       ? force_
-                                     : hook == kPostForceHook ? post_force_
-                                                              : end_of_step_;
+  const std::vector<std::size_t>& list = hook == kForceHook       ? force_
+                                         : hook == kPostForceHook ? post_force_
+                                                                  : end_of_step_;
   std::vector<std::string_view> names;
-  for (const Effect* e : list) names.push_back(e->Name());
+  for (const std::size_t k : list) names.push_back(effects_[k]->Name());
   return names;
 }
+
+std::vector<std::pair<std::string_view, double>> CoupledStepper::EffectSeconds() const {
+  std::vector<std::pair<std::string_view, double>> out;
+  out.emplace_back("integration", integration_seconds_);
+  for (std::size_t k = 0; k < effects_.size(); ++k) {
+    out.emplace_back(effects_[k]->Name(), effect_seconds_[k]);
+  }
+  return out;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Runs one hook of one effect and adds its wall time to *seconds.
+template <typename Call>
+Status Timed(double* seconds, Call call) {
+  const Clock::time_point start = Clock::now();
+  const Status status = call();
+  *seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  return status;
+}
+
+}  // namespace
 
 Status CoupledStepper::InitialForces() {
   StepInfo info;
   info.dt = state_.dem_dt;
-  for (Effect* e : force_) SEEP_RETURN_IF_ERROR(e->AddForces(state_, info));
-  for (Effect* e : post_force_) SEEP_RETURN_IF_ERROR(e->PostForce(state_, info));
+  for (const std::size_t k : force_) SEEP_RETURN_IF_ERROR(effects_[k]->AddForces(state_, info));
+  for (const std::size_t k : post_force_) {
+    SEEP_RETURN_IF_ERROR(effects_[k]->PostForce(state_, info));
+  }
   return Status::Ok();
 }
 
@@ -97,21 +126,34 @@ Status CoupledStepper::Step(std::uint64_t step, std::uint64_t total_steps) {
     info.flow_update = true;
     info.flow_dt = static_cast<double>(step - interval_start) * dt;
   }
+  Clock::time_point start = Clock::now();
   IntegrateFirstHalf(&s.particles, dt, &s.counters.dem);
   if (!s.walls.empty()) MoveWalls(&s.walls, dt);
-  for (Effect* e : force_) SEEP_RETURN_IF_ERROR(e->AddForces(s, info));
-  for (Effect* e : post_force_) SEEP_RETURN_IF_ERROR(e->PostForce(s, info));
+  integration_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+  for (const std::size_t k : force_) {
+    Effect& e = *effects_[k];
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));
+  }
+  for (const std::size_t k : post_force_) {
+    Effect& e = *effects_[k];
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.PostForce(s, info); }));
+  }
+  start = Clock::now();
   IntegrateSecondHalf(&s.particles, dt, &s.counters.dem);
+  integration_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
   // A blow-up is caught within a flow interval, or 64 steps without flow, not with a pass over
   // the particles every step; it cannot hide: non-finite positions stay non-finite.
   if (info.flow_update || step % 64 == 0 || step == total_steps) {
     SEEP_RETURN_IF_ERROR(CheckParticlesFinite(step));
   }
   if (!info.flow_update) return Status::Ok();
-  for (Effect* e : end_of_step_) {
+  for (const std::size_t k : end_of_step_) {
     const std::uint64_t topology = s.topology_version;
-    SEEP_RETURN_IF_ERROR(e->EndOfStep(s, info));
-    if (s.topology_version != topology) SEEP_RETURN_IF_ERROR(RebindAll());
+    Effect& e = *effects_[k];
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.EndOfStep(s, info); }));
+    if (s.topology_version != topology) {
+      SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return RebindAll(); }));
+    }
   }
   if (s.injection_rate_m2_s > 0.0 && s.net.well_domain >= 0) {
     const double well = s.net.flow.pressure()[static_cast<std::size_t>(s.net.well_domain)];
@@ -159,6 +201,7 @@ void CoupledStepper::SaveTo(MechanicsSnapshot* out) const {
   out->worst_flow_mass_balance_error = s.flow.worst_mass_balance_error;
   out->max_flow_sub_steps = s.flow.max_sub_steps;
   out->breakthrough_time_s = s.breakthrough_time_s;
+  for (const auto& effect : effects_) effect->CompleteSnapshot(s, out);
 }
 
 namespace {

@@ -16,6 +16,7 @@
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/flow/time_step_limit.h"
+#include "seep/core/log.h"
 
 namespace seep::core::effects_internal {
 namespace {
@@ -58,6 +59,8 @@ class FluidForcesEffect final : public Effect {
       }
     }
     boundary_pressure_.assign(d.num_boundary_pipes(), 0.0);
+    SEEP_RETURN_IF_ERROR(kernel_.Bind(d, s.particles.size()));
+    slot_pressure_.assign(kernel_.num_slots(), 0.0);
     return Status::Ok();
   }
 
@@ -68,16 +71,22 @@ class FluidForcesEffect final : public Effect {
       boundary_pressure_[k] = node >= 0 ? pressure[static_cast<std::size_t>(node)]
                                         : std::numeric_limits<double>::quiet_NaN();
     }
-    const std::span<const double> domain_pressure =
-        pressure.subspan(0, s.net.domains.num_domains());
+    const std::size_t domains = s.net.domains.num_domains();
+    const std::span<const double> domain_pressure = pressure.subspan(0, domains);
     SEEP_RETURN_IF_ERROR(
         outer_.Compute(s.net.domains, domain_pressure, boundary_pressure_, &arc_pressure_));
+    std::copy(domain_pressure.begin(), domain_pressure.end(), slot_pressure_.begin());
+    std::copy(arc_pressure_.begin(), arc_pressure_.end(),
+              slot_pressure_.begin() + static_cast<std::ptrdiff_t>(domains));
     ++s.counters.pressure_force_passes;
-    return AddPressureForces(CurrentView(s), s.net.domains, domain_pressure, arc_pressure_,
-                             s.particles.fx, s.particles.fy);
+    kernel_.Apply(CurrentView(s), slot_pressure_.data(), s.particles.fx.data(),
+                  s.particles.fy.data());
+    return Status::Ok();
   }
 
  private:
+  PressureForceKernel kernel_;
+  std::vector<double> slot_pressure_;  // domain pressures, then the outer arcs
   std::vector<std::int32_t> reservoir_of_boundary_pipe_;
   std::vector<double> boundary_pressure_;
   std::vector<double> arc_pressure_;
@@ -102,31 +111,57 @@ class VolumeChangeEffect final : public Effect {
   }
 
   // New volumes into the network, dV of the storage volume over the interval into the state.
+  // With apparent storage V_p enters no equation of the step, so only V_d is recomputed (the
+  // wedge angles and lenses of V_p are most of the cost); the network keeps the V_p of the last
+  // detection or restore, and every snapshot carries V_p fresh from the positions
+  // (CompleteSnapshot), so what a checkpoint, an export or a state hash shows is current.
   Status EndOfStep(CoupledState& s, const StepInfo& info) override {
     if (!info.flow_update) return Status::Ok();
-    SEEP_RETURN_IF_ERROR(updater_.Compute(CurrentView(s), s.net.domains, apparent_, pore_));
+    const bool pore = storage_.volume == StorageVolume::kPore;
+    if (pore) {
+      SEEP_RETURN_IF_ERROR(updater_.Compute(CurrentView(s), s.net.domains, apparent_, pore_));
+    } else {
+      SEEP_RETURN_IF_ERROR(updater_.ComputeApparent(CurrentView(s), s.net.domains, apparent_));
+    }
     ++s.counters.volume_updates;
     const std::size_t n = apparent_.size();
-    const auto old_apparent = s.net.flow.apparent_volume();
-    const auto old_pore = s.net.flow.pore_volume();
+    const std::span<const double> before =
+        pore ? s.net.flow.pore_volume() : s.net.flow.apparent_volume();
+    const std::span<const double> after = pore ? pore_ : apparent_;
+    const DomainRole* role = s.net.flow.role().data();
+    double* change = s.volume_change.data();
     for (std::size_t d = 0; d < n; ++d) {
-      const double before = storage_.volume == StorageVolume::kPore ? old_pore[d] : old_apparent[d];
-      const double after = storage_.volume == StorageVolume::kPore ? pore_[d] : apparent_[d];
-      s.volume_change[d] = storage_.factor * (after - before);
-      if (!(after > 0.0) && s.net.flow.role()[d] != DomainRole::kFixedPressure) {
+      change[d] = storage_.factor * (after[d] - before[d]);
+      if (!(after[d] > 0.0) && role[d] != DomainRole::kFixedPressure) {
         return FailedPrecondition(fmt::format(
             "coupling: domain {} collapsed (volume {} m^2 at step {}); the particles overlap "
             "too much: raise contacts.law.kn or lower the load",
-            d, after, info.step));
+            d, after[d], info.step));
       }
     }
     std::copy(apparent_.begin(), apparent_.end(), s.net.flow.mutable_apparent_volume().begin());
-    std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
     // The domain network carries the same volumes, so that a re-detection's pressure remap
     // weighs the old domains as the flow solver stored them.
     std::copy(apparent_.begin(), apparent_.end(), s.net.domains.apparent_volume.begin());
-    std::copy(pore_.begin(), pore_.end(), s.net.domains.pore_volume.begin());
+    if (pore) {
+      std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
+      std::copy(pore_.begin(), pore_.end(), s.net.domains.pore_volume.begin());
+    }
     return Status::Ok();
+  }
+
+  // V_p of the current positions into a snapshot taken with apparent storage (see EndOfStep).
+  void CompleteSnapshot(const CoupledState& s, MechanicsSnapshot* out) const override {
+    if (storage_.volume == StorageVolume::kPore || !s.has_network) return;
+    const std::size_t n = s.net.domains.num_domains();
+    std::vector<double> apparent(n), pore(n);
+    const Status status = updater_.Compute(CurrentView(s), s.net.domains, apparent, pore);
+    if (!status.ok()) {
+      // The updater is bound to this network by construction; keep the stored V_p and say so.
+      Logger()->error("coupling: snapshot keeps the detected pore volumes: {}", status.message());
+      return;
+    }
+    std::copy(pore.begin(), pore.end(), out->pore_volume.begin());
   }
 
  private:
@@ -147,41 +182,66 @@ class ApertureUpdateEffect final : public Effect {
     updater_.emplace(std::move(updater));
     return Rebind(s);
   }
-  Status Rebind(CoupledState& s) override { return updater_->Bind(s.net.flow, s.net.pipe_contact); }
+  Status Rebind(CoupledState& s) override {
+    pair_version_ = kNoPairTable;  // the contact list may have changed: look the pairs up again
+    return updater_->Bind(s.net.flow, s.net.pipe_contact);
+  }
 
-  // Per network contact: the gap from the current positions and the compressive force of the
-  // DEM contact on the same pair (0 when the pair is not in contact or pulls: an open or
-  // stretched contact takes the gap branch of the law).
+  // Per pipe: the gap and the compressive force of the DEM pair table's entry for its contact,
+  // read through a pipe -> pair index kept until the DEM rebuilds its table (0 force when the
+  // pair is open or pulls: an open or stretched contact takes the gap branch of the law). A
+  // contact the table no longer lists has drifted apart: its gap from the positions, no force.
   Status EndOfStep(CoupledState& s, const StepInfo& info) override {
     if (!info.flow_update) return Status::Ok();
     const ContactList& c = s.net.contacts;
-    s.contacts->CollectContacts(&dem_);
-    force_.assign(c.size(), 0.0);
-    gap_.resize(c.size());
-    std::size_t k = 0;
-    for (std::size_t m = 0; m < c.size(); ++m) {
+    const DemContactForces& dem = *s.contacts;
+    const std::span<const std::int32_t> pipe_contact = s.net.pipe_contact;
+    const std::size_t pipes = pipe_contact.size();
+    if (pair_version_ != dem.pair_table_version()) {
+      dem.FindPairs(c.i, c.j, &pair_of_contact_);
+      pair_of_pipe_.resize(pipes);
+      for (std::size_t p = 0; p < pipes; ++p) {
+        const std::int32_t contact = pipe_contact[p];
+        pair_of_pipe_[p] =
+            contact < 0 ? kNoContact : pair_of_contact_[static_cast<std::size_t>(contact)];
+      }
+      pair_version_ = dem.pair_table_version();
+    }
+    force_.resize(pipes);
+    gap_.resize(pipes);
+    const double* x = s.particles.x.data();
+    const double* y = s.particles.y.data();
+    const double* r = s.particles.radius.data();
+    for (std::size_t p = 0; p < pipes; ++p) {
+      const std::int32_t k = pair_of_pipe_[p];
+      if (k >= 0) {
+        force_[p] = std::max(dem.pair_normal_force(k), 0.0);
+        gap_[p] = dem.pair_gap(k);
+        continue;
+      }
+      force_[p] = 0.0;
+      gap_[p] = 0.0;
+      if (k == kNoContact) continue;  // the updater keeps this pipe's aperture
+      const auto m = static_cast<std::size_t>(pipe_contact[p]);
       const auto i = static_cast<std::size_t>(c.i[m]);
       const auto j = static_cast<std::size_t>(c.j[m]);
       // sqrt(dx^2 + dy^2), not hypot: its scaling guard costs 3x and coordinates cannot overflow.
-      const double dx = s.particles.x[j] - s.particles.x[i];
-      const double dy = s.particles.y[j] - s.particles.y[i];
-      gap_[m] = std::sqrt(dx * dx + dy * dy) - s.particles.radius[i] - s.particles.radius[j];
-      while (k < dem_.size() &&
-             (dem_[k].i < c.i[m] || (dem_[k].i == c.i[m] && dem_[k].j < c.j[m]))) {
-        ++k;
-      }
-      if (k < dem_.size() && dem_[k].i == c.i[m] && dem_[k].j == c.j[m]) {
-        force_[m] = std::max(dem_[k].normal_force, 0.0);
-      }
+      const double dx = x[j] - x[i];
+      const double dy = y[j] - y[i];
+      gap_[p] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
     }
     ++s.counters.aperture_updates;
-    return updater_->Update(s.net.flow, force_, gap_).status();
+    return updater_->UpdatePerPipe(s.net.flow, force_, gap_).status();
   }
 
  private:
+  static constexpr std::uint64_t kNoPairTable = ~std::uint64_t{0};
+  static constexpr std::int32_t kNoContact = -2;  // a pipe that stands for no contact
   std::optional<ContactApertureUpdater> updater_;
-  std::vector<DemContactRecord> dem_;
-  std::vector<double> force_, gap_;
+  std::uint64_t pair_version_ = kNoPairTable;
+  std::vector<std::int32_t> pair_of_contact_;  // DEM pair per network contact, or -1
+  std::vector<std::int32_t> pair_of_pipe_;     // DEM pair per pipe, -1 unlisted, kNoContact
+  std::vector<double> force_, gap_;            // per pipe
 };
 
 class FlowEffect final : public Effect {

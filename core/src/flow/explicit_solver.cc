@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -104,20 +105,70 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
       network.coefficient_version() == coefficient_stamp_) {
     return Status::Ok();
   }
-  SEEP_RETURN_IF_ERROR(network.Validate());
-  SEEP_ASSIGN_OR_RETURN(capacity_,
-                        ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus));
-  SEEP_ASSIGN_OR_RETURN(limit_,
-                        ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
+  // A new topology is validated whole; a coefficient edit on a known topology (the coupled loop
+  // moves volumes and apertures at every flow update) only needs the values the update reads,
+  // checked in the passes that use them. Both paths share RefreshCoefficients, so the numbers
+  // are the same bits whichever path a run (or its resume from a checkpoint) takes.
+  if (network.topology_version() != topology_stamp_) {
+    SEEP_RETURN_IF_ERROR(network.Validate());
+  }
+  SEEP_RETURN_IF_ERROR(RefreshCoefficients(network));
+  topology_stamp_ = network.topology_version();
+  coefficient_stamp_ = network.coefficient_version();
+  return Status::Ok();
+}
+
+Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const std::size_t n = network.num_domains();
+  const auto a = network.pipe_domain_a();
+  const auto b = network.pipe_domain_b();
+  const auto c = network.pipe_conductance();
+  sum_c_.assign(n, 0.0);
+  for (std::size_t p = 0; p < c.size(); ++p) {
+    if (!(std::isfinite(c[p]) && c[p] > 0.0)) {
+      return InvalidArgument("flow.network.pipe_conductance[" + std::to_string(p) +
+                             "]: must be finite and > 0 (got " + flow_internal::FormatNumber(c[p]) +
+                             ")");
+    }
+    sum_c_[static_cast<std::size_t>(a[p])] += c[p];
+    sum_c_[static_cast<std::size_t>(b[p])] += c[p];
+  }
   const auto role = network.role();
   const auto q_src = network.source_rate();
+  const double bulk = options_.bulk_modulus;
+  capacity_.assign(n, 0.0);
   rate_.assign(n, 0.0);
   inflow_.assign(n, 0.0);
   sources_.clear();
+  limit_ = CriticalTimeStep{};
   for (std::size_t d = 0; d < n; ++d) {
     if (role[d] == DomainRole::kFixedPressure) continue;
+    const double vs = StorageVolumeOf(network, options_.storage, d);
+    if (!(vs > 0.0 && std::isfinite(vs))) {
+      return InvalidArgument(
+          std::string("flow.network.") +
+          (options_.storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
+          "[" + std::to_string(d) + "]: storage volume of a non-fixed domain must be > 0 (got " +
+          flow_internal::FormatNumber(vs) + " with storage '" +
+          std::string(StorageVolumeName(options_.storage.volume)) +
+          "'); apply a volume floor, merge the domain, or fix its pressure");
+    }
+    if (!std::isfinite(q_src[d])) {
+      return InvalidArgument("flow.network.source_rate[" + std::to_string(d) +
+                             "]: must be finite (got " + flow_internal::FormatNumber(q_src[d]) +
+                             ")");
+    }
+    capacity_[d] = vs / bulk;
     rate_[d] = 1.0 / capacity_[d];
+    // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
+    const double dt =
+        sum_c_[d] > 0.0 ? vs / (bulk * sum_c_[d]) : std::numeric_limits<double>::infinity();
+    if (dt < limit_.dt_crit) {
+      limit_.dt_crit = dt;
+      limit_.limiting_domain = static_cast<std::int32_t>(d);
+      limit_.limiting_storage_volume = vs;
+      limit_.limiting_conductance_sum = sum_c_[d];
+    }
     if (role[d] == DomainRole::kSource && q_src[d] != 0.0) {
       sources_.push_back(static_cast<std::int32_t>(d));
       inflow_[d] = q_src[d];
@@ -125,8 +176,6 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
   }
   gain_.assign(n, 0.0);
   gain_dt_ = -1.0;
-  topology_stamp_ = network.topology_version();
-  coefficient_stamp_ = network.coefficient_version();
   return Status::Ok();
 }
 

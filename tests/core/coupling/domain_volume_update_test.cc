@@ -35,11 +35,23 @@ double MaxAbs(const std::vector<double>& v) {
   return m;
 }
 
-// The three test packings: lattices (no rattlers) and a random packing with rattlers.
+// A hex lattice squeezed to 95 % of its spacing: overlaps of 10 % of R, whose lenses (chord
+// half-length 0.31 R) are beyond the updater's short series and take LensArea.
+Packing SqueezedHex() {
+  const Packing hex = coupling_test::Hex(9, 7, 1e-3);
+  Packing out;
+  for (std::size_t i = 0; i < hex.size(); ++i)
+    out.Add(0.95 * hex.x[i], 0.95 * hex.y[i], hex.radius[i]);
+  return out;
+}
+
+// The test packings: lattices (no rattlers; one with deep overlaps) and a random packing with
+// rattlers.
 std::vector<std::pair<std::string, Detected>> Cases() {
   std::vector<std::pair<std::string, Detected>> cases;
   cases.emplace_back("square", Detect(coupling_test::Square(8, 6, 1e-3)));
   cases.emplace_back("hex", Detect(coupling_test::Hex(9, 7, 1e-3)));
+  cases.emplace_back("squeezed hex", Detect(SqueezedHex()));
   cases.emplace_back("random", Detect(coupling_test::Random(3), 1e-2));
   return cases;
 }
@@ -89,17 +101,20 @@ TEST(DomainVolumeUpdate, RigidMotionGivesZeroVolumeChange) {
     DomainVolumeUpdater updater;
     ASSERT_TRUE(updater.Bind(ViewOf(d.packing), d.domains).ok());
     const Volumes before = ComputeAt(updater, d.packing, d.domains);
-    const double angle = 0.7;
-    const double r = d.packing.radius[0];
-    const Packing moved =
-        Transformed(d.packing, std::cos(angle), std::sin(angle), 13.3 * r, -4.1 * r, 1.0, false);
-    const Volumes after = ComputeAt(updater, moved, d.domains);
-    std::vector<double> dvd(before.apparent.size()), dvp(before.apparent.size());
-    ASSERT_TRUE(ComputeVolumeChange(before.apparent, after.apparent, dvd).ok());
-    ASSERT_TRUE(ComputeVolumeChange(before.pore, after.pore, dvp).ok());
-    for (std::size_t k = 0; k < dvd.size(); ++k) {
-      EXPECT_NEAR(dvd[k], 0.0, 1e-12 * before.apparent[k]) << "domain " << k;
-      EXPECT_NEAR(dvp[k], 0.0, 1e-12 * before.apparent[k]) << "domain " << k;
+    // Edge turns inside the updater's short series (1e-6, 0.03 rad) and beyond it (0.7 rad: atan2).
+    for (const double angle : {1e-6, 0.03, 0.7}) {
+      SCOPED_TRACE(angle);
+      const double r = d.packing.radius[0];
+      const Packing moved =
+          Transformed(d.packing, std::cos(angle), std::sin(angle), 13.3 * r, -4.1 * r, 1.0, false);
+      const Volumes after = ComputeAt(updater, moved, d.domains);
+      std::vector<double> dvd(before.apparent.size()), dvp(before.apparent.size());
+      ASSERT_TRUE(ComputeVolumeChange(before.apparent, after.apparent, dvd).ok());
+      ASSERT_TRUE(ComputeVolumeChange(before.pore, after.pore, dvp).ok());
+      for (std::size_t k = 0; k < dvd.size(); ++k) {
+        EXPECT_NEAR(dvd[k], 0.0, 1e-12 * before.apparent[k]) << "domain " << k;
+        EXPECT_NEAR(dvp[k], 0.0, 1e-12 * before.apparent[k]) << "domain " << k;
+      }
     }
   }
 }

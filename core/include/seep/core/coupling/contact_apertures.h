@@ -42,17 +42,27 @@ class ContactApertureUpdater {
   Result<ContactApertureReport> Update(FlowNetwork& network, std::span<const double> normal_force,
                                        std::span<const double> gap);
 
+  // The same with the force and gap already per pipe (size num_pipes; entries of pipes bound to
+  // -1 are ignored): what a caller holding a pipe -> DEM pair index passes, saving the
+  // per-contact arrays.
+  Result<ContactApertureReport> UpdatePerPipe(FlowNetwork& network,
+                                              std::span<const double> pipe_force,
+                                              std::span<const double> pipe_gap);
+
   const ApertureLaw& law() const { return law_; }
 
  private:
   ContactApertureUpdater(const ApertureLaw& law, double viscosity)
       : law_(law), viscosity_(viscosity) {}
+  Status CheckBound(std::size_t num_pipes) const;
 
   ApertureLaw law_;
   double viscosity_;
   std::vector<std::int32_t> pipe_contact_;
   std::int32_t max_contact_ = -1;
   std::vector<double> aperture_;  // scratch: the apertures written at the last Update
+  std::vector<double> keep_;      // per pipe: 1 if bound to no contact (keeps its aperture)
+  std::vector<double> pipe_force_, pipe_gap_;  // scratch of Update: per-contact -> per-pipe
 };
 
 }  // namespace seep::core

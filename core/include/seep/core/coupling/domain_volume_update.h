@@ -37,10 +37,15 @@ class DomainVolumeUpdater {
 
   // V_d and V_p (m^2 per m) of every domain of the bound network from the current positions.
   // The spans must hold network.num_domains() entries. `network` must be the one bound (same
-  // domain count; checked) and its particle ids valid for `particles` (checked, O(loop length)).
+  // domain count and particle count; checked, O(1): its particle ids were checked by Bind).
   // Allocates nothing.
   Status Compute(const ParticleView& particles, const DomainNetwork& network,
                  std::span<double> apparent_volume, std::span<double> pore_volume) const;
+
+  // V_d alone (the shoelace of Compute, bit-identical to its V_d): what apparent storage needs,
+  // without the wedge angle and lens of every loop entry that V_p costs.
+  Status ComputeApparent(const ParticleView& particles, const DomainNetwork& network,
+                         std::span<double> apparent_volume) const;
 
   // Per domain: V_p(detected) - V_p(loop formula at the bind positions), m^2. Zero (to
   // round-off) for domains holding no rattler.
@@ -49,11 +54,40 @@ class DomainVolumeUpdater {
  private:
   Status Check(const ParticleView& particles, const DomainNetwork& network,
                std::size_t volumes) const;
-  // The loop formula (islands included, rattlers not).
+  // The loop formula (islands included, rattlers not); V_p only when kPore.
+  template <bool kPore>
   void ComputeGeometric(const ParticleView& particles, const DomainNetwork& network,
                         std::span<double> apparent_volume, std::span<double> pore_volume) const;
 
+  Status CheckBound(const DomainNetwork& network) const;
+  // The distinct contacts of the loops ("edges"), each loop entry's edge and wedge angle.
+  Status BindEdges(const ParticleView& particles, const DomainNetwork& network);
+  // The sector sums at the Bind angles for the current radii (those of Bind: a copy).
+  void PrepareSectors(const ParticleView& particles, const DomainNetwork& network) const;
+  // Per edge and direction: half its lens minus its turn's share of the sector sum.
+  void ComputeEdgeTerms(const ParticleView& particles) const;
+  template <bool kBindRadii>
+  void ComputeEdgeTermsWith(const ParticleView& particles) const;
+
   std::vector<double> rattler_correction_;
+  // Particle count at Bind, whose ids were checked then (Compute checks only the count).
+  std::size_t bound_particles_ = 0;
+  // Edges: particles (lo < hi) and the vector lo -> hi at Bind; contact id -> edge.
+  std::vector<std::int32_t> edge_of_contact_;
+  std::vector<std::int32_t> edge_lo_, edge_hi_;
+  std::vector<double> edge_x0_, edge_y0_;
+  // Per entry of the domain loops and of the outer walks: 2 x (edge to the next entry) + 1 if it
+  // is walked hi -> lo, and the wedge angle at the next entry at Bind.
+  std::vector<std::int32_t> loop_entry_term_, outer_entry_term_;
+  std::vector<double> loop_theta0_, outer_theta0_;
+  // Radii and sector sums per face at Bind.
+  std::vector<double> bind_radius_, bind_loop_sector_, bind_outer_sector_;
+  // Scratch of Compute (so Compute allocates nothing; one updater per thread).
+  mutable std::vector<double> edge_term_, loop_sector_, outer_sector_;
+  mutable std::vector<double> edge_slow_;  // per edge: 1 if it needs atan2 or LensArea
+  mutable std::vector<double> edge_dx_, edge_dy_, edge_rlo_, edge_rhi_;  // gathered per edge
+  std::vector<double> edge_inv_r_lo_, edge_inv_r_hi_;  // 1/R at Bind (the lens series needs h/R)
+  mutable bool same_radii_ = true;                     // the radii are those of Bind
 };
 
 // change[d] = after[d] - before[d] (all three of equal size; InvalidArgument otherwise).

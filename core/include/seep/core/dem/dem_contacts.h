@@ -37,6 +37,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "seep/core/dem/contact_law.h"
@@ -137,6 +138,19 @@ class DemContactForces {
   Status RestoreState(const DemContactState& state, std::size_t particle_count,
                       std::size_t wall_count);
 
+  // Direct reads of the pair table for the flow coupling, which needs the force and gap of the
+  // same few pairs at every flow update (an index beats collecting every contact). Indices stay
+  // valid while pair_table_version() is unchanged; it changes at every rebuild and restore.
+  std::uint64_t pair_table_version() const { return pair_table_version_; }
+  // index[m] = the pair of (i[m], j[m]) in the table, or -1 if it is not listed; i, j sorted by
+  // (i, j) with i < j (a ContactList). O(pairs + m).
+  void FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
+                 std::vector<std::int32_t>* index) const;
+  // Normal force of the last pass (> 0 compression; contact law + intact bond; 0 for a listed
+  // pair that neither touches nor is bonded) and its gap.
+  double pair_normal_force(std::int32_t k) const { return pairs_[static_cast<std::size_t>(k)].fn; }
+  double pair_gap(std::int32_t k) const { return pairs_[static_cast<std::size_t>(k)].gap; }
+
   // Number of pairs in the neighbour list (candidates).
   std::size_t pair_count() const { return pairs_.size(); }
   const DemContactSettings& settings() const { return settings_; }
@@ -165,6 +179,7 @@ class DemContactForces {
 
   DemContactSettings settings_;
   bool needs_rebuild_ = true;
+  std::uint64_t pair_table_version_ = 0;
   BondParams bond_params_;
 
   // One neighbour-list pair and its contact state (48 bytes, one array: the hot loop streams

@@ -18,6 +18,8 @@
 #include <spdlog/logger.h>
 
 #include <memory>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "seep/core/effects/effect.h"
@@ -42,6 +44,11 @@ class CoupledStepper {
   // Names of the effects in each hook list, in call order (for the log and the tests).
   std::vector<std::string_view> HookList(Hook hook) const;
 
+  // Wall seconds spent in each effect's hooks (and in the integration, as "integration") since
+  // set-up, in the canonical effect order: what each effect costs a run (the benchmarks and the
+  // run report). Not state: never checkpointed, never read by the physics.
+  std::vector<std::pair<std::string_view, double>> EffectSeconds() const;
+
   void SaveTo(MechanicsSnapshot* out) const;
   // Restores the state of a stepper of the same scene; DATA_LOSS naming what does not fit. The
   // flow pressures are restored by the caller afterwards (they are part of SimulationSnapshot).
@@ -57,7 +64,10 @@ class CoupledStepper {
   SceneSpec scene_;
   CoupledState state_;
   std::vector<std::unique_ptr<Effect>> effects_;
-  std::vector<Effect*> force_, post_force_, end_of_step_;
+  // Hook lists hold indices into effects_ (so each call can be timed against its effect).
+  std::vector<std::size_t> force_, post_force_, end_of_step_;
+  std::vector<double> effect_seconds_;  // per effects_ entry
+  double integration_seconds_ = 0.0;
   const Effect* flow_effect_ = nullptr;
   std::uint64_t flow_every_ = 1;
 };

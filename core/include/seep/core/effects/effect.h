@@ -28,6 +28,7 @@
 #include "seep/core/geometry/packing.h"
 #include "seep/core/scene/scene_network.h"
 #include "seep/core/scene/scene_spec.h"
+#include "seep/core/scene/simulation_snapshot.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
@@ -122,6 +123,9 @@ class Effect {
   virtual Status EndOfStep(CoupledState& /*state*/, const StepInfo& /*info*/) {
     return Status::Ok();
   }
+  // Adds what the effect keeps current only for reports (not for the step) to a snapshot that
+  // the stepper has filled from the state.
+  virtual void CompleteSnapshot(const CoupledState& /*state*/, MechanicsSnapshot* /*out*/) const {}
 };
 
 }  // namespace seep::core

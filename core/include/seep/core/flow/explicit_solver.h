@@ -77,6 +77,9 @@ class ExplicitSolver {
  private:
   explicit ExplicitSolver(const ExplicitSolverOptions& options) : options_(options) {}
   Status Prepare(const FlowNetwork& network);
+  // Capacities, rates, the critical step and the sources from the current values (checking the
+  // values they read); allocates only when the network grew.
+  Status RefreshCoefficients(const FlowNetwork& network);
 
   ExplicitSolverOptions options_;
   std::uint64_t topology_stamp_ = 0;
@@ -84,6 +87,7 @@ class ExplicitSolver {
   CriticalTimeStep limit_;
   std::vector<double> rate_;      // K_f / V_s (0 for fixed), 1/(Pa s) per m^2.
   std::vector<double> capacity_;  // V_s / K_f (0 for fixed), m^2/Pa.
+  std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
   std::vector<double> gain_;      // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
