@@ -26,6 +26,7 @@
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "seep/core/log.h"
+#include "seep/core/threads.h"
 #include "store/job_store.h"
 
 namespace {
@@ -44,6 +45,7 @@ struct Options {
   std::string log_level = "info";
   std::string port_file;
   int workers = 1;
+  int threads_per_job = 0;  // 0: the cores shared out among the workers
   std::uint64_t checkpoint_every_steps = 0;
   double checkpoint_interval_s = 30.0;
   std::uint32_t checkpoints_kept = 3;
@@ -206,6 +208,9 @@ int Run(const Options& options) {
   seep::service::JobHub hub;
   seep::service::JobRunnerOptions runner_options;
   runner_options.workers = options.workers;
+  runner_options.threads_per_job = options.threads_per_job > 0
+                                       ? options.threads_per_job
+                                       : seep::core::CoreThreadsPerJob(options.workers);
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = lease_owner;
   runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
@@ -234,8 +239,9 @@ int Run(const Options& options) {
     return 1;
   }
   server->GetHealthCheckService()->SetServingStatus(true);
-  logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s)", SEEP_BUILD_ID,
-               options.listen, port, options.data_dir, options.workers);
+  logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s) of {} thread(s)",
+               SEEP_BUILD_ID, options.listen, port, options.data_dir, options.workers,
+               runner_options.threads_per_job);
   logger->info("transport {}; {}; requests up to {} bytes, scenes up to {} bytes",
                tls ? "TLS" : "plaintext",
                authenticated ? "bearer token required for seep.v1.SeepService (health stays open)"
@@ -274,6 +280,10 @@ int main(int argc, char** argv) {
   app.add_option("--workers", options.workers, "jobs run at the same time")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  app.add_option("--threads-per-job", options.threads_per_job,
+                 "threads of each running job's parallel loops (default: the cores / --workers; "
+                 "results do not depend on it)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();

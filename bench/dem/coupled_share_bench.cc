@@ -4,14 +4,16 @@
 // density 1, gravity 10, dt = 1e-4; side walls instead of the periodic x of the reference, which
 // scenes do not offer).
 //
-// Usage: seep_coupled_share_bench path/to/settled_bed_9900.txt [steps=2000]
+// Usage: seep_coupled_share_bench path/to/settled_bed_9900.txt [steps=2000] [flow_every=1]
 // Runs the bed twice through the scene API, 200 warm-up steps then `steps` timed steps each:
 //   mechanics  effects contacts, gravity, walls (bottom, left, right);
-//   coupled    the same plus flow (explicit, one flow update per DEM step), fluid_forces,
-//              volume_change and aperture_update, with a fluid soft enough that one explicit
-//              sub-step covers the DEM step (the 1:1 of G6).
+//   coupled    the same plus flow (explicit, one flow update per DEM step, or per flow_every
+//              steps: volume change, apertures and sweep then run on those steps only),
+//              fluid_forces, volume_change and aperture_update, with a fluid soft enough that one
+//              explicit sub-step covers the DEM step (the 1:1 of G6).
 // and prints both rates and the flow share = 1 - t_mechanics / t_coupled, next to the coupled
-// run's own split of its time per effect (fluid effects / all). Single thread.
+// run's own split of its time per effect (fluid effects / all, and G6's terms alone), on 1 and
+// then 2 threads, and the 2/1 speed-ups.
 #include <omp.h>
 
 #include <chrono>
@@ -29,7 +31,7 @@ namespace {
 
 using namespace seep::core;  // NOLINT(google-build-using-namespace): a small program
 
-SceneSpec BedScene(const Packing& bed, bool coupled) {
+SceneSpec BedScene(const Packing& bed, bool coupled, std::uint64_t flow_every) {
   SceneSpec s;
   s.name = coupled ? "coupled bed" : "mechanics bed";
   s.packing.source = ParticleListSpec{bed.x, bed.y, bed.radius};
@@ -59,7 +61,7 @@ SceneSpec BedScene(const Packing& bed, bool coupled) {
                  WallSpec{WallSide::kRight}};
   s.effects = {contacts, GravityEffectSpec{0.0, -10.0}, walls};
   if (coupled) {
-    s.effects.push_back(FlowEffectSpec{1});
+    s.effects.push_back(FlowEffectSpec{static_cast<std::uint32_t>(flow_every)});
     s.effects.push_back(FluidForcesEffectSpec{});
     s.effects.push_back(VolumeChangeEffectSpec{});
     s.effects.push_back(ApertureUpdateEffectSpec{});
@@ -93,34 +95,29 @@ double RunSteps(Simulation& sim, std::uint64_t steps) {
   return seconds;
 }
 
-}  // namespace
+struct Shares {
+  double seconds[2] = {0.0, 0.0};  // mechanics, coupled: the timed steps
+  double fluid = 0.0;              // fluid effects / all, from the coupled run's own split
+  double g6 = 0.0;                 // G6's terms (apertures, sweep, fluid forces) / all
+  double fluid_ns = 0.0;           // fluid effects per particle-step
+};
 
-int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s settled_bed_9900.txt [steps=2000]\n", argv[0]);
-    return 2;
-  }
-  const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000;
-  omp_set_num_threads(1);
-  Result<Packing> bed = LoadPackingFile(argv[1]);
-  if (!bed.ok()) {
-    std::fprintf(stderr, "%s\n", bed.status().message().c_str());
-    return 1;
-  }
-  double seconds[2] = {0.0, 0.0};
-  double inner_share = 0.0;
+// Runs the mechanics and the coupled bed on `threads` threads and prints what each costs.
+Shares Measure(const Packing& bed, std::uint64_t steps, std::uint64_t flow_every, int threads) {
+  omp_set_num_threads(threads);
+  Shares out;
   for (int coupled = 0; coupled < 2; ++coupled) {
-    Result<Simulation> sim = Simulation::Create(BedScene(*bed, coupled == 1));
+    Result<Simulation> sim = Simulation::Create(BedScene(bed, coupled == 1, flow_every));
     if (!sim.ok()) {
       std::fprintf(stderr, "%s\n", sim.status().message().c_str());
-      return 1;
+      std::exit(1);
     }
     RunSteps(*sim, 200);
-    seconds[coupled] = RunSteps(*sim, steps);
-    const double rate = static_cast<double>(bed->size() * steps) / seconds[coupled];
-    std::printf("%-9s %zu disks, dt %.3g, %llu steps: %.3f s, %.3g particle-steps/s",
-                coupled ? "coupled" : "mechanics", bed->size(), sim->dt_s(),
-                static_cast<unsigned long long>(steps), seconds[coupled], rate);
+    out.seconds[coupled] = RunSteps(*sim, steps);
+    const double rate = static_cast<double>(bed.size() * steps) / out.seconds[coupled];
+    std::printf("%-9s %d thread(s), %zu disks, dt %.3g, %llu steps: %.3f s, %.3g particle-steps/s",
+                coupled ? "coupled" : "mechanics", threads, bed.size(), sim->dt_s(),
+                static_cast<unsigned long long>(steps), out.seconds[coupled], rate);
     if (coupled == 1) {
       const CoupledState& state = sim->coupled()->state();
       std::printf(" (%zu domains, %zu pipes, flow every %llu step(s), %lld sub-step(s) per update)",
@@ -129,29 +126,58 @@ int main(int argc, char** argv) {
                   static_cast<long long>(state.flow.max_sub_steps));
     }
     std::printf("\n");
-    // Per effect, over the whole run (warm-up included): the same run's own split, which does
-    // not depend on how loaded the machine was between the two runs.
-    double total = 0.0, fluid = 0.0;
+    // Per effect, over the whole run (warm-up included): the run's own split, which does not
+    // depend on how loaded the machine was between the two runs.
+    double total = 0.0, fluid = 0.0, g6 = 0.0;
     const auto split = sim->coupled()->EffectSeconds();
     for (const auto& [name, t] : split) {
       total += t;
       if (IsFluidEffect(name)) fluid += t;
+      if (IsFluidEffect(name) && name != "volume_change") g6 += t;
     }
     std::printf("  time per effect:");
     for (const auto& [name, t] : split) {
       std::printf(" %.*s %.1f%%", static_cast<int>(name.size()), name.data(), 100.0 * t / total);
     }
     std::printf("\n");
-    if (coupled == 1) inner_share = fluid / total;
     if (coupled == 1) {
-      std::printf("  fluid effects: %.1f ns per particle-step\n",
-                  1e9 * fluid / static_cast<double>(bed->size() * (steps + 200)));
+      out.fluid = fluid / total;
+      out.g6 = g6 / total;
+      out.fluid_ns = 1e9 * fluid / static_cast<double>(bed.size() * (steps + 200));
     }
   }
-  const double share = 1.0 - seconds[0] / seconds[1];
+  const double share = 1.0 - out.seconds[0] / out.seconds[1];
   std::printf(
-      "flow share of a coupled step: %.1f %% from the two runs, %.1f %% from the coupled run's "
-      "own split (goal G6 <= 25 %%, issue #4 and stretch <= 10 %%)\n",
-      100.0 * share, 100.0 * inner_share);
+      "  %d thread(s): flow share of a coupled step %.1f %% from the two runs, %.1f %% from the "
+      "coupled run's own split (%.1f ns per particle-step); G6's terms alone (apertures, sweep, "
+      "fluid forces; volume change not counted) %.1f %%\n",
+      threads, 100.0 * share, 100.0 * out.fluid, out.fluid_ns, 100.0 * out.g6);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s settled_bed_9900.txt [steps=2000] [flow_every=1]\n", argv[0]);
+    return 2;
+  }
+  const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000;
+  const std::uint64_t flow_every = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
+  if (steps < 1 || flow_every < 1) {
+    std::fprintf(stderr, "steps and flow_every must be >= 1\n");
+    return 2;
+  }
+  Result<Packing> bed = LoadPackingFile(argv[1]);
+  if (!bed.ok()) {
+    std::fprintf(stderr, "%s\n", bed.status().message().c_str());
+    return 1;
+  }
+  const Shares one = Measure(*bed, steps, flow_every, 1);
+  const Shares two = Measure(*bed, steps, flow_every, 2);
+  std::printf(
+      "2/1 thread speed-up: mechanics %.2fx, coupled %.2fx (goals: G6 flow share <= 25 %%, "
+      "issue #4 and G6 stretch <= 10 %%)\n",
+      one.seconds[0] / two.seconds[0], one.seconds[1] / two.seconds[1]);
   return 0;
 }

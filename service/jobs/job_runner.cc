@@ -10,6 +10,7 @@
 #include "codec/simulation_state_codec.h"
 #include "jobs/wall_clock.h"
 #include "seep/core/scene/simulation.h"
+#include "seep/core/threads.h"
 #include "seep/v1/scene.pb.h"
 
 namespace seep::service {
@@ -104,6 +105,11 @@ void JobRunner::Wake() {
 }
 
 void JobRunner::WorkerLoop(const std::stop_token& stop) {
+  // Per worker thread: the jobs it runs use this many threads, so that the workers together do
+  // not ask for more cores than there are (oversubscribed barriers cost up to 100x).
+  core::SetCoreThreadsForThisThread(options_.threads_per_job > 0
+                                        ? options_.threads_per_job
+                                        : core::CoreThreadsPerJob(options_.workers));
   while (!stop.stop_requested()) {
     std::uint64_t seen;
     {

@@ -32,6 +32,9 @@ namespace seep::service {
 
 struct JobRunnerOptions {
   int workers = 1;
+  // Threads of the core's parallel loops per running job (>= 1); 0 = the cores shared out among
+  // the workers (core::CoreThreadsPerJob). Results do not depend on it.
+  int threads_per_job = 0;
   std::string build_id;
   // Least wall time between two progress writes to the store for one job.
   std::chrono::milliseconds store_progress_interval{1000};

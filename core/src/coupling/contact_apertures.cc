@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "../parallel_threshold.h"
+
 namespace seep::core {
 
 Result<ContactApertureUpdater> ContactApertureUpdater::Create(const ApertureLaw& law,
@@ -89,8 +91,11 @@ Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
   double* __restrict out = aperture_.data();
   const ApertureLaw law = law_;
   // Branch-free so that it vectorises: both branches of the law, then a select (aperture_law.h).
+  // The counts are sums of 0s and 1s: exact in any order, so threads change no bit.
   double changed = 0.0, bad = 0.0;
   const auto n = static_cast<std::ptrdiff_t>(num_pipes);
+#pragma omp parallel for simd schedule(static) reduction(+ : changed, bad) \
+    if (n >= internal::kMinParallelItems)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const double f = force[p], g = gap[p];
     // x - x is 0 exactly for finite x and NaN otherwise (isfinite would stop the vectoriser).

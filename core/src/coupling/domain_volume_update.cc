@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "../parallel_threshold.h"
 #include "seep/core/geometry/disk_overlap.h"
 
 namespace seep::core {
@@ -164,7 +165,10 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
                                            std::span<double> pore_volume) const {
   const double* term = edge_term_.data();
   const std::int32_t* loops = network.loop_particles.data();
-  for (std::size_t d = 0; d < network.num_domains(); ++d) {
+  const auto domains = static_cast<std::ptrdiff_t>(network.num_domains());
+  // Per domain writes only: threads change no bit. (The islands below write their hosts.)
+#pragma omp parallel for schedule(static) if (domains >= internal::kMinParallelItems)
+  for (std::ptrdiff_t d = 0; d < domains; ++d) {
     const LoopMeasure m = MeasureLoop<kPore>(particles, loops, loop_entry_term_.data(), term,
                                              static_cast<std::size_t>(network.loop_offsets[d]),
                                              static_cast<std::size_t>(network.loop_offsets[d + 1]));
@@ -252,32 +256,37 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
   double* __restrict g_hi = edge_rhi_.data();
   const double* __restrict inv_lo = edge_inv_r_lo_.data();
   const double* __restrict inv_hi = edge_inv_r_hi_.data();
-  for (std::ptrdiff_t e = 0; e < edges; ++e) {
-    const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
-    gx[e] = x[hi] - x[lo];
-    gy[e] = y[hi] - y[lo];
-    g_lo[e] = r[lo];
-    g_hi[e] = r[hi];
-  }
-  // Pass 1, branch-free so that it vectorises: every edge as if it took the short series of
-  // both TurnAngle and HalfLens; the edges outside their range are flagged.
-#pragma omp simd
-  for (std::ptrdiff_t e = 0; e < edges; ++e) {
-    const double dx = gx[e];
-    const double dy = gy[e];
-    const double cross = x0[e] * dy - y0[e] * dx;
-    const double dot = x0[e] * dx + y0[e] * dy;
-    // Bitwise & on the conditions: no short-circuit branches in the vector loop.
-    const bool turn_ok = (dot > 0.0) & (std::abs(cross) <= kSmallTurn * dot);
-    const double turn = SmallTurn(cross / std::max(dot, 1e-300));
-    const double r_lo = g_lo[e], r_hi = g_hi[e];
-    double half_lens = 0.0;
-    const bool lens_ok = ShallowHalfLens(r_lo, r_hi, kBindRadii ? inv_lo[e] : 1.0 / r_lo,
-                                         kBindRadii ? inv_hi[e] : 1.0 / r_hi, dx, dy, &half_lens);
-    const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
-    term[2 * e] = half_lens - sector_turn;      // walked lo -> hi
-    term[2 * e + 1] = half_lens + sector_turn;  // walked hi -> lo
-    slow[e] = (turn_ok & lens_ok) ? 0.0 : 1.0;  // a double: a byte store stops the vectoriser
+  // Both passes write per edge only: threads change no bit.
+#pragma omp parallel if (edges >= internal::kMinParallelItems)
+  {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t e = 0; e < edges; ++e) {
+      const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
+      gx[e] = x[hi] - x[lo];
+      gy[e] = y[hi] - y[lo];
+      g_lo[e] = r[lo];
+      g_hi[e] = r[hi];
+    }
+    // Pass 1, branch-free so that it vectorises: every edge as if it took the short series of
+    // both TurnAngle and HalfLens; the edges outside their range are flagged.
+#pragma omp for simd schedule(static)
+    for (std::ptrdiff_t e = 0; e < edges; ++e) {
+      const double dx = gx[e];
+      const double dy = gy[e];
+      const double cross = x0[e] * dy - y0[e] * dx;
+      const double dot = x0[e] * dx + y0[e] * dy;
+      // Bitwise & on the conditions: no short-circuit branches in the vector loop.
+      const bool turn_ok = (dot > 0.0) & (std::abs(cross) <= kSmallTurn * dot);
+      const double turn = SmallTurn(cross / std::max(dot, 1e-300));
+      const double r_lo = g_lo[e], r_hi = g_hi[e];
+      double half_lens = 0.0;
+      const bool lens_ok = ShallowHalfLens(r_lo, r_hi, kBindRadii ? inv_lo[e] : 1.0 / r_lo,
+                                           kBindRadii ? inv_hi[e] : 1.0 / r_hi, dx, dy, &half_lens);
+      const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
+      term[2 * e] = half_lens - sector_turn;      // walked lo -> hi
+      term[2 * e + 1] = half_lens + sector_turn;  // walked hi -> lo
+      slow[e] = (turn_ok & lens_ok) ? 0.0 : 1.0;  // a double: a byte store stops the vectoriser
+    }
   }
   // Pass 2: the flagged few (a large turn since Bind, a deep overlap) with atan2 and LensArea.
   for (std::ptrdiff_t e = 0; e < edges; ++e) {

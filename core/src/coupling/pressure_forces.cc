@@ -2,10 +2,13 @@
 // the outer walks (see pressure_forces.h for the rule and its consequences).
 #include "seep/core/coupling/pressure_forces.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "../parallel_threshold.h"
 #include "seep/core/coupling/contact_point.h"
 
 namespace seep::core {
@@ -110,8 +113,9 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
   std::sort(walks.begin(), walks.end(), [](const Traversal& a, const Traversal& b) {
     return a.contact < b.contact || (a.contact == b.contact && (a.u < a.v) > (b.u < b.v));
   });
-  terms_.clear();
-  terms_.reserve(walks.size() / 2);
+  // Built aside and committed at the end: a failed Bind leaves the kernel as it was.
+  std::vector<ContactTerms> terms;
+  terms.reserve(walks.size() / 2);
   for (std::size_t k = 0; k < walks.size();) {
     const Traversal& fwd = walks[k];
     const bool paired = k + 1 < walks.size() && walks[k + 1].contact == fwd.contact &&
@@ -122,19 +126,47 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
                       " is not walked exactly once in each direction by the face loops");
     }
     const Traversal& bwd = walks[k + 1];
-    terms_.push_back(ContactTerms{fwd.u, fwd.v, fwd.slot_u, bwd.slot_v, bwd.slot_u, fwd.slot_v});
+    terms.push_back(ContactTerms{fwd.u, fwd.v, fwd.slot_u, bwd.slot_v, bwd.slot_u, fwd.slot_v});
     k += 2;
   }
+  terms_ = std::move(terms);
   num_slots_ = num_domains + network.outer_particles.size();
+  side_start_.assign(num_particles + 1, 0);
+  for (const ContactTerms& t : terms_) {
+    ++side_start_[static_cast<std::size_t>(t.lo) + 1];
+    ++side_start_[static_cast<std::size_t>(t.hi) + 1];
+  }
+  for (std::size_t i = 0; i < num_particles; ++i) side_start_[i + 1] += side_start_[i];
+  side_items_.resize(2 * terms_.size());
+  std::vector<std::int32_t> fill(side_start_.begin(), side_start_.end() - 1);
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    const auto side = static_cast<std::int32_t>(2 * t);
+    side_items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(terms_[t].lo)]++)] = side;
+    side_items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(terms_[t].hi)]++)] =
+        side + 1;
+  }
+  side_fx_.assign(2 * terms_.size(), 0.0);
+  side_fy_.assign(2 * terms_.size(), 0.0);
   return Status::Ok();
 }
+
+namespace {
+
+// The forces of contact t on its two particles (lo, then hi), into *lo_x.. in that order.
+struct SideForces {
+  double lo_x, lo_y, hi_x, hi_y;
+};
+
+}  // namespace
 
 void PressureForceKernel::Apply(const ParticleView& particles, const double* slot_pressure,
                                 double* fx, double* fy) const {
   const double* x = particles.x.data();
   const double* y = particles.y.data();
   const double* r = particles.radius.data();
-  for (const ContactTerms& t : terms_) {
+  const ContactTerms* terms = terms_.data();
+  const auto forces_of = [&](std::ptrdiff_t c) {
+    const ContactTerms& t = terms[c];
     const auto lo = static_cast<std::size_t>(t.lo);
     const auto hi = static_cast<std::size_t>(t.hi);
     const double dx = x[hi] - x[lo];
@@ -142,10 +174,47 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
     const double f = ContactFraction(r[lo], r[hi], dx * dx + dy * dy);
     const double k_lo = (slot_pressure[t.forward_lo] - slot_pressure[t.backward_lo]) * f;
     const double k_hi = (slot_pressure[t.backward_hi] - slot_pressure[t.forward_hi]) * (f - 1.0);
-    fx[lo] += k_lo * dy;
-    fy[lo] -= k_lo * dx;
-    fx[hi] += k_hi * dy;
-    fy[hi] -= k_hi * dx;
+    return SideForces{k_lo * dy, -k_lo * dx, k_hi * dy, -k_hi * dx};
+  };
+  const auto contacts = static_cast<std::ptrdiff_t>(terms_.size());
+  if (contacts < internal::kMinParallelItems || omp_get_max_threads() == 1) {
+    // One thread: add each contact's forces straight away, in ascending contact order.
+    for (std::ptrdiff_t c = 0; c < contacts; ++c) {
+      const SideForces s = forces_of(c);
+      fx[terms[c].lo] += s.lo_x;
+      fy[terms[c].lo] += s.lo_y;
+      fx[terms[c].hi] += s.hi_x;
+      fy[terms[c].hi] += s.hi_y;
+    }
+    return;
+  }
+  // Threads: the forces into per-side slots, then each particle adds its slots one by one in
+  // ascending contact order: the same additions in the same order as above, so the same bits.
+  double* side_x = side_fx_.data();
+  double* side_y = side_fy_.data();
+  const std::int32_t* start = side_start_.data();
+  const std::int32_t* items = side_items_.data();
+  const auto n = static_cast<std::ptrdiff_t>(side_start_.size()) - 1;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < contacts; ++c) {
+      const SideForces s = forces_of(c);
+      side_x[2 * c] = s.lo_x;
+      side_y[2 * c] = s.lo_y;
+      side_x[2 * c + 1] = s.hi_x;
+      side_y[2 * c + 1] = s.hi_y;
+    }
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      double ax = fx[i], ay = fy[i];
+      for (std::int32_t k = start[i]; k < start[i + 1]; ++k) {
+        ax += side_x[items[k]];
+        ay += side_y[items[k]];
+      }
+      fx[i] = ax;
+      fy[i] = ay;
+    }
   }
 }
 

@@ -582,8 +582,19 @@ void DemContactForces::CollectFlowContacts(double max_gap, ContactList* out) con
   }
 }
 
-void DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
-                                 std::vector<std::int32_t>* index) const {
+Status DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
+                                   std::vector<std::int32_t>* index) const {
+  if (i.size() != j.size()) {
+    return InvalidArgument("dem.contact.find_pairs: " + std::to_string(i.size()) + " i and " +
+                           std::to_string(j.size()) + " j");
+  }
+  for (std::size_t m = 0; m < i.size(); ++m) {
+    if (i[m] >= j[m] || (m > 0 && !KeyLess(i[m - 1], j[m - 1], i[m], j[m]))) {
+      return InvalidArgument("dem.contact.find_pairs: pair " + std::to_string(m) + " (" +
+                             std::to_string(i[m]) + ", " + std::to_string(j[m]) +
+                             ") is not sorted with i < j");
+    }
+  }
   index->assign(i.size(), -1);
   std::size_t k = 0;
   for (std::size_t m = 0; m < i.size(); ++m) {
@@ -592,6 +603,7 @@ void DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<cons
       (*index)[m] = static_cast<std::int32_t>(k);
     }
   }
+  return Status::Ok();
 }
 
 void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* out) const {

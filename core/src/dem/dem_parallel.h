@@ -1,15 +1,10 @@
-// When the DEM loops go parallel: below this many items an OpenMP region costs more than it
-// saves (and on a loaded machine a barrier can cost far more). Every parallel loop of the dem
-// area writes per-item results only, so taking the serial path never changes a result bit.
+// The DEM's parallel loops follow the core's threshold (parallel_threshold.h).
 #pragma once
 
-#include <cstddef>
+#include "../parallel_threshold.h"
 
 namespace seep::core::dem_internal {
 
-// 8192 items: a coupled scene of a few hundred disks (a thousand or two pairs) took 6x longer
-// with two threads than with one while other processes shared the two cores (each barrier
-// waits for a descheduled thread); the 10k-disk bench bed (about 25k pairs) still gains 1.5-1.75x.
-inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
+using internal::kMinParallelItems;
 
 }  // namespace seep::core::dem_internal

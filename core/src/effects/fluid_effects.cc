@@ -8,6 +8,7 @@
 #include <limits>
 #include <variant>
 
+#include "../parallel_threshold.h"
 #include "effect_factories.h"
 #include "seep/core/coupling/contact_apertures.h"
 #include "seep/core/coupling/domain_volume_update.h"
@@ -198,7 +199,7 @@ class ApertureUpdateEffect final : public Effect {
     const std::span<const std::int32_t> pipe_contact = s.net.pipe_contact;
     const std::size_t pipes = pipe_contact.size();
     if (pair_version_ != dem.pair_table_version()) {
-      dem.FindPairs(c.i, c.j, &pair_of_contact_);
+      SEEP_RETURN_IF_ERROR(dem.FindPairs(c.i, c.j, &pair_of_contact_));
       pair_of_pipe_.resize(pipes);
       for (std::size_t p = 0; p < pipes; ++p) {
         const std::int32_t contact = pipe_contact[p];
@@ -212,7 +213,10 @@ class ApertureUpdateEffect final : public Effect {
     const double* x = s.particles.x.data();
     const double* y = s.particles.y.data();
     const double* r = s.particles.radius.data();
-    for (std::size_t p = 0; p < pipes; ++p) {
+    const auto n = static_cast<std::ptrdiff_t>(pipes);
+    // Per pipe writes only: threads change no bit.
+#pragma omp parallel for schedule(static) if (n >= internal::kMinParallelItems)
+    for (std::ptrdiff_t p = 0; p < n; ++p) {
       const std::int32_t k = pair_of_pipe_[p];
       if (k >= 0) {
         force_[p] = std::max(dem.pair_normal_force(k), 0.0);

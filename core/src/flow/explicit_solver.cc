@@ -106,12 +106,16 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
     return Status::Ok();
   }
   // A new topology is validated whole; a coefficient edit on a known topology (the coupled loop
-  // moves volumes and apertures at every flow update) only needs the values the update reads,
-  // checked in the passes that use them. Both paths share RefreshCoefficients, so the numbers
-  // are the same bits whichever path a run (or its resume from a checkpoint) takes.
-  if (network.topology_version() != topology_stamp_) {
-    SEEP_RETURN_IF_ERROR(network.Validate());
-  }
+  // moves volumes and apertures at every flow update) re-checks the values only. Both check the
+  // same values (Validate ends with ValidateCoefficients) and share RefreshCoefficients, so a
+  // long-lived solver accepts, refuses and computes exactly what a fresh one (a resumed run's)
+  // would.
+  const bool known_topology = network.topology_version() == topology_stamp_;
+  // Until the refresh succeeds the stamps are 0 (never issued): a half-refreshed cache is then
+  // trusted by no network, not even a copy taken before the edit.
+  topology_stamp_ = 0;
+  coefficient_stamp_ = 0;
+  SEEP_RETURN_IF_ERROR(known_topology ? network.ValidateCoefficients() : network.Validate());
   SEEP_RETURN_IF_ERROR(RefreshCoefficients(network));
   topology_stamp_ = network.topology_version();
   coefficient_stamp_ = network.coefficient_version();
@@ -124,12 +128,8 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const auto b = network.pipe_domain_b();
   const auto c = network.pipe_conductance();
   sum_c_.assign(n, 0.0);
+  // (Conductances are finite and > 0: Prepare validated them.)
   for (std::size_t p = 0; p < c.size(); ++p) {
-    if (!(std::isfinite(c[p]) && c[p] > 0.0)) {
-      return InvalidArgument("flow.network.pipe_conductance[" + std::to_string(p) +
-                             "]: must be finite and > 0 (got " + flow_internal::FormatNumber(c[p]) +
-                             ")");
-    }
     sum_c_[static_cast<std::size_t>(a[p])] += c[p];
     sum_c_[static_cast<std::size_t>(b[p])] += c[p];
   }

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "../parallel_threshold.h"
 #include "step_input.h"
 
 namespace seep::core {
@@ -26,24 +27,39 @@ Status CheckSize(const char* field, std::size_t got, std::size_t want, const cha
                          " entries, expected " + std::to_string(want) + " (one per " + per + ")");
 }
 
-Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (!(std::isfinite(v[i]) && v[i] >= 0.0)) {
-      return InvalidArgument(Indexed(field, i) + ": must be finite and >= 0 (got " +
-                             flow_internal::FormatNumber(v[i]) + ")");
-    }
+// Counts the entries that fail `ok` in a branch-free pass that vectorises (the coupled loop checks
+// every coefficient array at each flow update); only a failure pays for the scan that names it.
+template <typename Ok>
+std::ptrdiff_t FirstFailing(const std::vector<double>& v, Ok ok) {
+  const auto n = static_cast<std::ptrdiff_t>(v.size());
+  const double* x = v.data();
+  double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
+  for (std::ptrdiff_t i = 0; i < n; ++i) bad += ok(x[i]) ? 0.0 : 1.0;
+  if (bad == 0.0) return -1;
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (!ok(x[i])) return i;
   }
-  return Status::Ok();
+  return -1;
+}
+
+// x - x is 0 exactly for finite x and NaN for inf and NaN (isfinite would stop the vectoriser).
+inline bool Finite(double x) { return x - x == 0.0; }
+
+Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
+  const std::ptrdiff_t i = FirstFailing(v, [](double x) { return Finite(x) & (x >= 0.0); });
+  if (i < 0) return Status::Ok();
+  return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
+                         ": must be finite and >= 0 (got " +
+                         flow_internal::FormatNumber(v[static_cast<std::size_t>(i)]) + ")");
 }
 
 Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (!(std::isfinite(v[i]) && v[i] > 0.0)) {
-      return InvalidArgument(Indexed(field, i) + ": must be finite and > 0 (got " +
-                             flow_internal::FormatNumber(v[i]) + ")");
-    }
-  }
-  return Status::Ok();
+  const std::ptrdiff_t i = FirstFailing(v, [](double x) { return Finite(x) & (x > 0.0); });
+  if (i < 0) return Status::Ok();
+  return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
+                         ": must be finite and > 0 (got " +
+                         flow_internal::FormatNumber(v[static_cast<std::size_t>(i)]) + ")");
 }
 
 }  // namespace
@@ -76,14 +92,7 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
     return InvalidArgument("flow.network: more than 2^31-1 domains");
   }
 
-  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("apparent_volume", d.apparent_volume));
-  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pore_volume", d.pore_volume));
   for (std::size_t i = 0; i < nd; ++i) {
-    if (d.pore_volume[i] > d.apparent_volume[i]) {
-      return InvalidArgument(Indexed("pore_volume", i) + ": exceeds apparent_volume (" +
-                             flow_internal::FormatNumber(d.pore_volume[i]) + " > " +
-                             flow_internal::FormatNumber(d.apparent_volume[i]) + ")");
-    }
     if (!std::isfinite(d.pressure[i])) {
       return InvalidArgument(Indexed("pressure", i) + ": must be finite (got " +
                              flow_internal::FormatNumber(d.pressure[i]) + ")");
@@ -91,15 +100,6 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
     const auto r = static_cast<std::uint8_t>(d.role[i]);
     if (r > static_cast<std::uint8_t>(DomainRole::kSource)) {
       return InvalidArgument(Indexed("role", i) + ": unknown role " + std::to_string(r));
-    }
-    if (!std::isfinite(d.source_rate[i])) {
-      return InvalidArgument(Indexed("source_rate", i) + ": must be finite (got " +
-                             flow_internal::FormatNumber(d.source_rate[i]) + ")");
-    }
-    if (d.source_rate[i] != 0.0 && d.role[i] != DomainRole::kSource) {
-      return InvalidArgument(Indexed("source_rate", i) + ": is " +
-                             flow_internal::FormatNumber(d.source_rate[i]) +
-                             " but the domain's role is not kSource");
     }
   }
 
@@ -117,6 +117,40 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
     if (a == b) {
       return InvalidArgument(Indexed("pipe_domain_b", p) + ": pipe connects domain " +
                              std::to_string(a) + " to itself");
+    }
+  }
+  return ValidateCoefficients(d);
+}
+
+Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
+  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("apparent_volume", d.apparent_volume));
+  SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pore_volume", d.pore_volume));
+  const auto nd = static_cast<std::ptrdiff_t>(d.pressure.size());
+  const double* pore = d.pore_volume.data();
+  const double* apparent = d.apparent_volume.data();
+  const double* source = d.source_rate.data();
+  const DomainRole* role = d.role.data();
+  double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
+  for (std::ptrdiff_t i = 0; i < nd; ++i) {
+    const bool source_ok =
+        Finite(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
+    bad += ((pore[i] <= apparent[i]) & source_ok) ? 0.0 : 1.0;
+  }
+  for (std::size_t i = 0; bad > 0.0 && i < static_cast<std::size_t>(nd); ++i) {
+    if (d.pore_volume[i] > d.apparent_volume[i]) {
+      return InvalidArgument(Indexed("pore_volume", i) + ": exceeds apparent_volume (" +
+                             flow_internal::FormatNumber(d.pore_volume[i]) + " > " +
+                             flow_internal::FormatNumber(d.apparent_volume[i]) + ")");
+    }
+    if (!std::isfinite(d.source_rate[i])) {
+      return InvalidArgument(Indexed("source_rate", i) + ": must be finite (got " +
+                             flow_internal::FormatNumber(d.source_rate[i]) + ")");
+    }
+    if (d.source_rate[i] != 0.0 && d.role[i] != DomainRole::kSource) {
+      return InvalidArgument(Indexed("source_rate", i) + ": is " +
+                             flow_internal::FormatNumber(d.source_rate[i]) +
+                             " but the domain's role is not kSource");
     }
   }
   SEEP_RETURN_IF_ERROR(CheckFinitePositive("pipe_length", d.pipe_length));
@@ -149,17 +183,32 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
     return InvalidArgument("flow.fluid.viscosity: must be finite and > 0 (got " +
                            flow_internal::FormatNumber(viscosity) + ")");
   }
-  for (std::size_t p = 0; p < aperture.size(); ++p) {
-    if (!(std::isfinite(aperture[p]) && aperture[p] > 0.0)) {
+  // Checked in one branch-free pass (a x > 0 test that fails for NaN and, through a - a, for inf),
+  // then written in another: the coupled loop calls this at every flow update.
+  const auto n = static_cast<std::ptrdiff_t>(aperture.size());
+  const double* __restrict a_in = aperture.data();
+  double bad = 0.0;
+#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
+    if (n >= internal::kMinParallelItems)
+  for (std::ptrdiff_t p = 0; p < n; ++p) {
+    bad += ((a_in[p] > 0.0) & (a_in[p] - a_in[p] == 0.0)) ? 0.0 : 1.0;
+  }
+  if (bad > 0.0) {
+    for (std::size_t p = 0; p < aperture.size(); ++p) {
+      if (std::isfinite(aperture[p]) && aperture[p] > 0.0) continue;
       return InvalidArgument(Indexed("pipe_aperture", p) + ": must be finite and > 0 (got " +
                              flow_internal::FormatNumber(aperture[p]) + ")");
     }
   }
   coefficient_version_ = NextFlowVersionStamp();
-  for (std::size_t p = 0; p < aperture.size(); ++p) {
-    const double a = aperture[p];
-    data_.pipe_aperture[p] = a;
-    data_.pipe_conductance[p] = a * a * a / (12.0 * viscosity * data_.pipe_length[p]);
+  double* __restrict a_out = data_.pipe_aperture.data();
+  double* __restrict c_out = data_.pipe_conductance.data();
+  const double* __restrict length = data_.pipe_length.data();
+#pragma omp parallel for simd schedule(static) if (n >= internal::kMinParallelItems)
+  for (std::ptrdiff_t p = 0; p < n; ++p) {
+    const double a = a_in[p];
+    a_out[p] = a;
+    c_out[p] = a * a * a / (12.0 * viscosity * length[p]);
   }
   return Status::Ok();
 }

@@ -498,10 +498,13 @@ void Simulation::AddNetworkMetrics(Metrics& m) const {
     m["sample_length_m"] = net.length_m;
     m["sample_width_m"] = net.width_m;
   }
+  // A moving scene reports its current V_p (the step may keep the detected one).
+  const std::vector<double> pore_volume =
+      coupled_ ? coupled_->ReportedPoreVolumes() : net.domains.pore_volume;
   double pore = 0.0;
   double apparent = 0.0;
   for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
-    pore += net.domains.pore_volume[d];
+    pore += pore_volume[d];
     apparent += net.domains.apparent_volume[d];
   }
   m["particle_count"] = static_cast<double>(net.packing.size());

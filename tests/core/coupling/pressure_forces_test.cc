@@ -1,4 +1,5 @@
-// V14 (pressure forces, physics.md §5) and the major-arc case of the chord rule (§2.5).
+// V14 (pressure forces, physics.md §5), the major-arc case of the chord rule (§2.5) and the bound
+// per-contact kernel.
 #include "seep/core/coupling/pressure_forces.h"
 
 #include <gtest/gtest.h>
@@ -7,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -299,6 +302,134 @@ TEST(PressureForces, DeterministicBitForBit) {
   ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, pressure, {}, c, e).ok());
   EXPECT_EQ(a, c);
   EXPECT_EQ(b, e);
+}
+
+// Bind pairs the two face walks of every loop contact; a network in which some contact is not
+// walked once each way is not a face decomposition, and the per-contact rule would silently give
+// wrong forces. Two tamperings of a detected lattice: domain 0's loop reversed (particles and
+// their contacts), so each of its contacts is walked twice in the same direction, and domain 0
+// listed twice, so each of its contacts is walked three times. Both are refused naming the
+// lowest contact id of that loop (the walks are checked in ascending contact order).
+TEST(PressureForces, KernelBindRefusesContactsNotWalkedOnceEachWay) {
+  const Detected d = Detect(coupling_test::Square(4, 4, 1.0));
+  ASSERT_EQ(d.domains.num_domains(), 9u);
+  PressureForceKernel kernel;
+  ASSERT_TRUE(kernel.Bind(d.domains, d.packing.size()).ok());
+  const auto begin = static_cast<std::size_t>(d.domains.loop_offsets[0]);
+  const auto end = static_cast<std::size_t>(d.domains.loop_offsets[1]);
+  ASSERT_EQ(end - begin, 4u);
+  const std::int32_t lowest = *std::min_element(d.domains.loop_contacts.begin() + begin,
+                                                d.domains.loop_contacts.begin() + end);
+  const std::string message = "coupling.pressure_forces.network: contact " +
+                              std::to_string(lowest) +
+                              " is not walked exactly once in each direction by the face loops";
+
+  // Reversed: p_{n-1} .. p_0; the contact after p_k in the new order is the one before it.
+  DomainNetwork reversed = d.domains;
+  const std::size_t n = end - begin;
+  for (std::size_t m = 0; m < n; ++m) {
+    reversed.loop_particles[begin + m] = d.domains.loop_particles[end - 1 - m];
+    reversed.loop_contacts[begin + m] = d.domains.loop_contacts[begin + (2 * n - 2 - m) % n];
+  }
+  const Status s1 = kernel.Bind(reversed, d.packing.size());
+  EXPECT_EQ(s1.code(), StatusCode::kInternal);
+  EXPECT_EQ(s1.message(), message);
+
+  DomainNetwork doubled = d.domains;
+  for (std::size_t q = begin; q < end; ++q) {
+    doubled.loop_particles.push_back(d.domains.loop_particles[q]);
+    doubled.loop_contacts.push_back(d.domains.loop_contacts[q]);
+  }
+  doubled.loop_offsets.push_back(static_cast<std::int32_t>(doubled.loop_particles.size()));
+  doubled.apparent_volume.push_back(d.domains.apparent_volume[0]);
+  const Status s2 = kernel.Bind(doubled, d.packing.size());
+  EXPECT_EQ(s2.code(), StatusCode::kInternal);
+  EXPECT_EQ(s2.message(), message);
+  // AddPressureForces binds the same way: refused, nothing added.
+  std::vector<double> fx(d.packing.size(), 0.0), fy(d.packing.size(), 0.0);
+  const std::vector<double> pressure(reversed.num_domains(), 1e5);
+  EXPECT_EQ(AddPressureForces(ViewOf(d.packing), reversed, pressure, {}, fx, fy).code(),
+            StatusCode::kInternal);
+  for (std::size_t i = 0; i < fx.size(); ++i) {
+    EXPECT_EQ(fx[i], 0.0);
+    EXPECT_EQ(fy[i], 0.0);
+  }
+}
+
+// The chord rule per loop entry (pressure_forces.h): particle k of a face loop feels
+// P (t_y, -t_x), t = c_{k,k+1} - c_{k-1,k} from its centre. An independent reference for the
+// per-contact kernel, summed in another order, so it agrees to round-off only.
+void ChordRuleReference(const Detected& d, std::span<const double> slot, std::vector<double>* fx,
+                        std::vector<double>* fy) {
+  const ParticleView view = ViewOf(d.packing);
+  auto walk = [&](std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
+                  auto slot_of) {
+    for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+      const auto b = static_cast<std::size_t>(offsets[f]);
+      const auto e = static_cast<std::size_t>(offsets[f + 1]);
+      for (std::size_t q = b; q < e; ++q) {
+        const std::int32_t k = loop[q];
+        const std::int32_t prev = loop[q > b ? q - 1 : e - 1];
+        const std::int32_t next = loop[q + 1 < e ? q + 1 : b];
+        const ContactArms to_next = ComputeContactArms(view, k, next);
+        const ContactArms to_prev = ComputeContactArms(view, k, prev);
+        const double tx = to_next.ax - to_prev.ax, ty = to_next.ay - to_prev.ay;
+        const double p = slot[slot_of(f, q)];
+        (*fx)[static_cast<std::size_t>(k)] += p * ty;
+        (*fy)[static_cast<std::size_t>(k)] -= p * tx;
+      }
+    }
+  };
+  const std::size_t num_domains = d.domains.num_domains();
+  walk(d.domains.loop_offsets, d.domains.loop_particles,
+       [](std::size_t f, std::size_t) { return f; });
+  walk(d.domains.outer_offsets, d.domains.outer_particles,
+       [num_domains](std::size_t, std::size_t q) { return num_domains + q; });
+}
+
+// The coupled loop binds the kernel once per topology and applies it at every flow update. One
+// bound kernel applied to three sets of random per-domain and per-arc pressures, adding onto
+// forces that are not zero (Apply adds, like AddPressureForces), gives AddPressureForces' forces
+// bit for bit each time: Apply keeps no state between calls. Both agree with the per-entry chord
+// rule to round-off (1e-12 P R), which shows the forces are not trivially equal.
+TEST(PressureForces, BoundKernelMatchesAddPressureForcesBitForBit) {
+  const Detected d = Detect(coupling_test::Random(19), 1e-2);
+  const std::size_t n = d.packing.size();
+  const std::size_t num_domains = d.domains.num_domains();
+  ASSERT_GT(num_domains, 100u);
+  PressureForceKernel kernel;
+  ASSERT_TRUE(kernel.Bind(d.domains, n).ok());
+  ASSERT_EQ(kernel.num_slots(), num_domains + d.domains.outer_particles.size());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> pressure(0.0, 2e5), offset(-50.0, 50.0);
+  double r_max = 0.0;
+  for (const double r : d.packing.radius) r_max = std::max(r_max, r);
+  for (int round = 0; round < 3; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    std::vector<double> slot(kernel.num_slots());
+    for (double& p : slot) p = pressure(rng);
+    const std::span<const double> domain_p(slot.data(), num_domains);
+    const std::span<const double> arc_p(slot.data() + num_domains, slot.size() - num_domains);
+    std::vector<double> start_x(n), start_y(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      start_x[i] = offset(rng);
+      start_y[i] = offset(rng);
+    }
+    std::vector<double> kx = start_x, ky = start_y, ax = start_x, ay = start_y;
+    kernel.Apply(ViewOf(d.packing), slot.data(), kx.data(), ky.data());
+    ASSERT_TRUE(AddPressureForces(ViewOf(d.packing), d.domains, domain_p, arc_p, ax, ay).ok());
+    EXPECT_EQ(kx, ax);
+    EXPECT_EQ(ky, ay);
+    std::vector<double> rx = start_x, ry = start_y;
+    ChordRuleReference(d, slot, &rx, &ry);
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      worst = std::max(worst, std::hypot(kx[i] - rx[i], ky[i] - ry[i]));
+      largest = std::max(largest, std::hypot(kx[i] - start_x[i], ky[i] - start_y[i]));
+    }
+    EXPECT_LT(worst, 1e-12 * 2e5 * r_max);
+    EXPECT_GT(largest, 1e3 * r_max) << "random pressures push the particles";
+  }
 }
 
 }  // namespace

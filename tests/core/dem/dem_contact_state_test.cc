@@ -2,7 +2,8 @@
 // object continues bit-identically to the uninterrupted run (through neighbour-list rebuilds, bond
 // breaks, a servo wall and periodic wrapping); bad states are rejected with DataLoss naming the
 // field and leave the object unchanged; CollectFlowContacts lists exactly the near and bonded
-// pairs of a lattice with known gaps.
+// pairs of a lattice with known gaps; FindPairs indices read each contact's force and gap from
+// the pair table while its version holds.
 #include "seep/core/dem/dem_contact_state.h"
 
 #include <gtest/gtest.h>
@@ -497,6 +498,90 @@ TEST(DemContactState, FlowGapKeepsFlowContactsCompleteBetweenRebuilds) {
       EXPECT_NEAR(list.gap[0], 0.044, 1e-12);  // 480 additions of 1e-4: error ~1e-14
     }
   }
+}
+
+// The flow coupling keeps, per pipe, the index of its DEM pair (FindPairs) and reads force and
+// gap from the pair table at every flow update instead of collecting every contact. On the
+// bonded lattice mid-run (overlaps, bonds, compressive and tensile forces), the indices of the
+// sorted contact list read back each record's normal force and gap bit for bit; a pair that is
+// not listed (two far corners, slotted in sorted order) maps to -1. The indices may be kept only
+// while pair_table_version() is unchanged: a force pass without a rebuild keeps the version and
+// the indices, ForceRebuild() and the next pass change it, and so does RestoreState.
+TEST(DemContactState, PairTableIndicesReadTheContactsForceAndGap) {
+  Assembly a = MakeAssembly(false);
+  DemCounters counters;
+  ASSERT_TRUE(ComputeDemForces(&a.particles, a.walls, &a.contacts, a.options, &counters).ok());
+  Advance(&a, 150, &counters);  // loaded by gravity and the lid, no bond broken yet
+  std::vector<DemContactRecord> records;
+  a.contacts.CollectContacts(&records);
+  ASSERT_GT(records.size(), 100u);
+  std::size_t compressed = 0, tensile = 0, overlapping = 0;
+  for (const DemContactRecord& r : records) {
+    compressed += r.normal_force > 0.0;
+    tensile += r.normal_force < 0.0;
+    overlapping += r.gap < 0.0;
+  }
+  EXPECT_GT(compressed, 0u);
+  EXPECT_GT(tensile, 0u);
+  EXPECT_GT(overlapping, 0u);
+
+  const std::int32_t far_i = 0, far_j = static_cast<std::int32_t>(a.particles.size()) - 1;
+  std::vector<std::int32_t> qi, qj;
+  std::size_t far_at = records.size();
+  for (std::size_t c = 0; c < records.size(); ++c) {
+    if (far_at == records.size() && std::tie(records[c].i, records[c].j) > std::tie(far_i, far_j)) {
+      far_at = qi.size();
+      qi.push_back(far_i);
+      qj.push_back(far_j);
+    }
+    qi.push_back(records[c].i);
+    qj.push_back(records[c].j);
+  }
+  ASSERT_LT(far_at, records.size()) << "the unlisted pair sits among the contacts, not last";
+  std::vector<std::int32_t> index;
+  ASSERT_TRUE(a.contacts.FindPairs(qi, qj, &index).ok());
+  ASSERT_EQ(index.size(), records.size() + 1);
+  EXPECT_EQ(index[far_at], -1);
+  for (std::size_t m = 0, c = 0; m < index.size(); ++m) {
+    if (m == far_at) continue;
+    const DemContactRecord& r = records[c++];
+    ASSERT_GE(index[m], 0) << r.i << "-" << r.j;
+    EXPECT_LT(static_cast<std::size_t>(index[m]), a.contacts.pair_count());
+    EXPECT_EQ(a.contacts.pair_normal_force(index[m]), r.normal_force) << r.i << "-" << r.j;
+    EXPECT_EQ(a.contacts.pair_gap(index[m]), r.gap) << r.i << "-" << r.j;
+  }
+
+  // Same positions again: no rebuild, same version, same indices.
+  const std::uint64_t version = a.contacts.pair_table_version();
+  const std::uint64_t rebuilds = counters.neighbour_rebuilds;
+  ASSERT_TRUE(ComputeDemForces(&a.particles, a.walls, &a.contacts, a.options, &counters).ok());
+  EXPECT_EQ(counters.neighbour_rebuilds, rebuilds);
+  EXPECT_EQ(a.contacts.pair_table_version(), version);
+  std::vector<std::int32_t> again;
+  ASSERT_TRUE(a.contacts.FindPairs(qi, qj, &again).ok());
+  EXPECT_EQ(again, index);
+
+  // A query out of order or with unequal lists is refused and writes nothing.
+  std::vector<std::int32_t> untouched{7};
+  std::vector<std::int32_t> swapped_i = qi, swapped_j = qj;
+  std::swap(swapped_i[0], swapped_i[1]);
+  std::swap(swapped_j[0], swapped_j[1]);
+  EXPECT_EQ(a.contacts.FindPairs(swapped_i, swapped_j, &untouched).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(a.contacts.FindPairs(qi, std::span(qj).first(qj.size() - 1), &untouched).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(untouched, std::vector<std::int32_t>{7});
+
+  a.contacts.ForceRebuild();
+  ASSERT_TRUE(ComputeDemForces(&a.particles, a.walls, &a.contacts, a.options, &counters).ok());
+  EXPECT_EQ(counters.neighbour_rebuilds, rebuilds + 1);
+  EXPECT_NE(a.contacts.pair_table_version(), version);
+
+  DemContactForces restored = MakeContacts(a.settings);
+  const std::uint64_t before_restore = restored.pair_table_version();
+  ASSERT_TRUE(
+      restored.RestoreState(a.contacts.SaveState(), a.particles.size(), a.walls.size()).ok());
+  EXPECT_NE(restored.pair_table_version(), before_restore);
 }
 
 }  // namespace

@@ -1,10 +1,14 @@
 // The effect registry and the coupled step loop: "only the effects a scene calls for", canonical
-// hook order, validation of effect lists, and bit-identical resume of a moving scene.
+// hook order, validation of effect lists, bit-identical resume of a moving scene and bit-identical
+// runs on 1 and 2 threads, the pore volumes a snapshot carries, the per-effect timing.
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include <chrono>
 #include <cstring>
 
 #include "coupled_scenes.h"
+#include "seep/core/coupling/domain_volume_update.h"
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 
@@ -144,6 +148,27 @@ bool BitEqual(const std::vector<T>& a, const std::vector<T>& b) {
          (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+// The state of two runs of a moving scene, bit for bit (particles, walls, contacts, pressures,
+// volumes, apertures).
+void ExpectSameState(const SimulationSnapshot& got, const SimulationSnapshot& expected) {
+  ASSERT_TRUE(got.mechanics && expected.mechanics);
+  EXPECT_EQ(got.step, expected.step);
+  EXPECT_TRUE(BitEqual(got.pressure, expected.pressure));
+  EXPECT_TRUE(BitEqual(got.mechanics->x, expected.mechanics->x));
+  EXPECT_TRUE(BitEqual(got.mechanics->y, expected.mechanics->y));
+  EXPECT_TRUE(BitEqual(got.mechanics->vx, expected.mechanics->vx));
+  EXPECT_TRUE(BitEqual(got.mechanics->omega, expected.mechanics->omega));
+  EXPECT_TRUE(BitEqual(got.mechanics->fx, expected.mechanics->fx));
+  EXPECT_TRUE(BitEqual(got.mechanics->torque, expected.mechanics->torque));
+  EXPECT_TRUE(BitEqual(got.mechanics->walls, expected.mechanics->walls));
+  EXPECT_TRUE(
+      BitEqual(got.mechanics->contacts.pair_shear, expected.mechanics->contacts.pair_shear));
+  EXPECT_TRUE(BitEqual(got.mechanics->apparent_volume, expected.mechanics->apparent_volume));
+  EXPECT_TRUE(BitEqual(got.mechanics->pore_volume, expected.mechanics->pore_volume));
+  EXPECT_TRUE(BitEqual(got.mechanics->aperture, expected.mechanics->aperture));
+  EXPECT_EQ(got.mechanics->bonds_broken, expected.mechanics->bonds_broken);
+}
+
 // Stop part-way, snapshot, restore into a fresh simulation, finish: the state equals that of an
 // uninterrupted run bit for bit (particles, walls, contacts, pressures, series).
 TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
@@ -182,19 +207,100 @@ TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
   // The stretch after the resume must exercise what the snapshot has to carry.
   EXPECT_GT(expected.mechanics->bonds_broken, mid.mechanics->bonds_broken);
   EXPECT_GT(expected.mechanics->topology_version, 0u);
-  EXPECT_EQ(got.step, expected.step);
-  EXPECT_TRUE(BitEqual(got.pressure, expected.pressure));
-  EXPECT_TRUE(BitEqual(got.mechanics->x, expected.mechanics->x));
-  EXPECT_TRUE(BitEqual(got.mechanics->y, expected.mechanics->y));
-  EXPECT_TRUE(BitEqual(got.mechanics->vx, expected.mechanics->vx));
-  EXPECT_TRUE(BitEqual(got.mechanics->omega, expected.mechanics->omega));
-  EXPECT_TRUE(BitEqual(got.mechanics->walls, expected.mechanics->walls));
-  EXPECT_TRUE(
-      BitEqual(got.mechanics->contacts.pair_shear, expected.mechanics->contacts.pair_shear));
-  EXPECT_TRUE(BitEqual(got.mechanics->aperture, expected.mechanics->aperture));
+  ExpectSameState(got, expected);
   EXPECT_TRUE(BitEqual(got.series.values, expected.series.values));
-  EXPECT_EQ(got.mechanics->bonds_broken, expected.mechanics->bonds_broken);
   EXPECT_EQ(got.mechanics->topology_version, expected.mechanics->topology_version);
+}
+
+// Runs `steps` steps of `scene` on `threads` threads (and restores the thread count).
+SimulationSnapshot RunOn(const SceneSpec& scene, int threads, std::uint64_t steps) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  Simulation sim = MustCreate(scene);
+  std::stop_source stop;
+  RunControl control;
+  control.stop = stop.get_token();
+  control.at_step_end = [&](const Simulation& s) {
+    if (s.step() >= steps) stop.request_stop();
+  };
+  EXPECT_EQ(sim.Run(control).code(), StatusCode::kCancelled);
+  SimulationSnapshot snap = sim.TakeSnapshot();
+  omp_set_num_threads(before);
+  return snap;
+}
+
+// Determinism across thread counts: a coupled lattice large enough that every parallel loop of
+// the DEM and of the fluid effects (edges, domains, pipes, contacts: over 8192 items each) takes
+// its parallel path ends bit-identical on 1 and 2 threads, bonds breaking on the way.
+TEST(Effects, CoupledRunIsBitIdenticalOnOneAndTwoThreads) {
+  SceneSpec scene = BoxedLatticeScene(100, 90);
+  BondsEffectSpec bonds;
+  bonds.params = {1e9, 5e8, 1.0, 3.0, 6.0};  // so weak that bonds break within the 40 steps
+  bonds.tolerance_m = 1e-6;
+  scene.effects.push_back(bonds);
+  scene.effects.push_back(RedetectionEffectSpec{});
+  const SimulationSnapshot one = RunOn(scene, 1, 40);
+  const SimulationSnapshot two = RunOn(scene, 2, 40);
+  ASSERT_TRUE(one.mechanics && two.mechanics);
+  EXPECT_GT(one.pressure.size(), 8192u);
+  EXPECT_EQ(one.step, 40u);
+  ExpectSameState(two, one);
+  EXPECT_GT(one.mechanics->bonds_broken, 0u);
+}
+
+// With apparent storage the step keeps V_p at its detected value (it enters no equation), and
+// every snapshot carries V_p fresh from the current positions: the updater's Compute on the
+// network as detected, to the bit.
+TEST(Effects, SnapshotCarriesCurrentPoreVolumesWithApparentStorage) {
+  SceneSpec scene = BoxedLatticeScene(10, 8);
+  scene.solver.storage = StorageVolumeKind::kApparent;
+  Simulation sim = MustCreate(scene);
+  MustRun(sim);
+  const SimulationSnapshot snap = sim.TakeSnapshot();
+  ASSERT_TRUE(snap.mechanics);
+  const DomainNetwork& detected = sim.network().domains;
+  const std::size_t n = detected.num_domains();
+  DomainVolumeUpdater updater;
+  const std::vector<double>& radius = sim.network().packing.radius;
+  ASSERT_TRUE(
+      updater
+          .Bind(ParticleView{snap.mechanics->detection_x, snap.mechanics->detection_y, radius},
+                detected)
+          .ok());
+  std::vector<double> apparent(n), pore(n);
+  ASSERT_TRUE(updater
+                  .Compute(ParticleView{snap.mechanics->x, snap.mechanics->y, radius}, detected,
+                           apparent, pore)
+                  .ok());
+  ASSERT_GE(snap.mechanics->pore_volume.size(), n);
+  std::size_t moved = 0;
+  for (std::size_t d = 0; d < n; ++d) {
+    EXPECT_EQ(snap.mechanics->pore_volume[d], pore[d]) << "domain " << d;
+    EXPECT_EQ(snap.mechanics->apparent_volume[d], apparent[d]) << "domain " << d;
+    moved += pore[d] != detected.pore_volume[d];
+  }
+  EXPECT_GT(moved, n / 2) << "the particles must have moved for the test to mean anything";
+}
+
+// Every listed effect is timed, in the canonical order after the integration, and the split adds
+// up to no more than the run's wall time.
+TEST(Effects, EffectSecondsCoverEveryListedEffect) {
+  const SceneSpec scene = BoxedLatticeScene(10, 8);
+  Simulation sim = MustCreate(scene);
+  const auto t0 = std::chrono::steady_clock::now();
+  MustRun(sim);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto split = sim.coupled()->EffectSeconds();
+  ASSERT_EQ(split.size(), scene.effects.size() + 1);
+  EXPECT_EQ(split.front().first, "integration");
+  double total = 0.0;
+  for (const auto& [name, seconds] : split) {
+    EXPECT_GT(seconds, 0.0) << name;
+    total += seconds;
+  }
+  EXPECT_LE(total, wall);
+  const auto force = sim.coupled()->HookList(kForceHook);
+  EXPECT_EQ(split[1].first, force.front());  // contacts leads
 }
 
 }  // namespace

@@ -1,11 +1,15 @@
-// FlowNetwork validation, the steady solver, components and boundary helpers.
+// FlowNetwork validation, the steady solver, components and boundary helpers, and the explicit
+// solver after coefficient edits.
 #include "seep/core/flow/flow_network.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "flow_test_networks.h"
 #include "seep/core/flow/boundary_conditions.h"
@@ -14,6 +18,7 @@
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/flow/network_components.h"
 #include "seep/core/flow/steady_state_solver.h"
+#include "seep/core/flow/time_step_limit.h"
 
 namespace seep::core {
 namespace {
@@ -339,6 +344,254 @@ TEST(FlowNetwork, ExplicitAdvanceSubCyclesWithinTheLimit) {
   EXPECT_LT(r->max_mass_balance_error, 1e-12);
   const double after = *StoredFluidExcess(net, kf, {});
   EXPECT_NEAR(after - before, -dv_total, 1e-12 * before);
+}
+
+// The storage-volume span of `storage` (a coefficient edit: bumps the coefficient stamp).
+std::span<double> MutableStorageVolume(FlowNetwork& net, StorageVolume storage) {
+  return storage == StorageVolume::kPore ? net.mutable_pore_volume()
+                                         : net.mutable_apparent_volume();
+}
+
+std::vector<double> Pressures(const FlowNetwork& net) {
+  return std::vector<double>(net.pressure().begin(), net.pressure().end());
+}
+
+// A random closed network with domain 0 held fixed and `source` injecting 1e-9 m^2/s.
+FlowNetwork FixedAndSourceNetwork(int n, int extra_pipes, std::uint64_t seed, std::size_t source) {
+  FlowNetworkData d = testing::MakeRandomClosedData(n, extra_pipes, seed);
+  d.role[0] = DomainRole::kFixedPressure;
+  d.role[source] = DomainRole::kSource;
+  d.source_rate[source] = 1e-9;
+  return testing::MakeOrDie(d);
+}
+
+// A long-lived explicit solver takes a coefficient edit (the coupled loop moves volumes and
+// apertures at every flow update) through RefreshCoefficients without re-validating the
+// topology; a solver created afresh on a copy of the edited network, as after a resume from a
+// checkpoint, validates it whole. Both must step to the same bits, or a resumed run drifts from
+// the uninterrupted one. Each round edits another kind of coefficient (storage volumes, every
+// aperture, two conductances, a source rate), then takes three steps on both; an unedited copy
+// stepped alongside shows that every edit changes the pressures (so the comparison can fail).
+TEST(FlowNetwork, ExplicitCoefficientEditStepsBitIdenticalToAFreshSolver) {
+  for (const StorageVolume storage : {StorageVolume::kPore, StorageVolume::kApparent}) {
+    SCOPED_TRACE(std::string(StorageVolumeName(storage)));
+    FlowNetwork net = FixedAndSourceNetwork(80, 60, 11, 40);
+    ExplicitSolverOptions options;
+    options.storage = {storage, 1.3};
+    auto long_lived = ExplicitSolver::Create(options);
+    ASSERT_TRUE(long_lived.ok());
+    const auto limit = ComputeCriticalTimeStep(net, options.bulk_modulus, options.storage);
+    ASSERT_TRUE(long_lived->Step(net, 0.5 * limit->dt_crit).ok());  // topology known from here
+    const std::uint64_t topology = net.topology_version();
+
+    for (int round = 0; round < 4; ++round) {
+      SCOPED_TRACE("round " + std::to_string(round));
+      FlowNetwork unedited = net;
+      switch (round) {
+        case 0: {  // storage volumes, both ways (V_p <= V_d = 2 V_p holds either way)
+          std::span<double> v = MutableStorageVolume(net, storage);
+          v[5] *= 0.6;
+          v[17] *= 1.7;
+          break;
+        }
+        case 1: {  // every aperture, hence every conductance
+          std::vector<double> a(net.pipe_aperture().begin(), net.pipe_aperture().end());
+          for (std::size_t p = 0; p < a.size(); ++p)
+            a[p] *= 1.0 + 0.01 * static_cast<double>(p % 7);
+          ASSERT_TRUE(net.SetApertures(a, 1e-3).ok());
+          break;
+        }
+        case 2: {
+          std::span<double> c = net.mutable_pipe_conductance();
+          c[3] *= 4.0;
+          c[30] *= 0.25;
+          break;
+        }
+        case 3:  // a new rate on a source domain: a value edit, not a role edit
+          ASSERT_TRUE(net.SetSource(40, 3e-9).ok());
+          break;
+      }
+      ASSERT_EQ(net.topology_version(), topology) << "the edits must not change the topology";
+      FlowNetwork resumed = net;
+      auto fresh = ExplicitSolver::Create(options);
+      auto stale = ExplicitSolver::Create(options);
+      ASSERT_TRUE(fresh.ok() && stale.ok());
+      // Within the limit of both the edited and the unedited network.
+      const double dt =
+          0.5 *
+          std::min(
+              ComputeCriticalTimeStep(net, options.bulk_modulus, options.storage)->dt_crit,
+              ComputeCriticalTimeStep(unedited, options.bulk_modulus, options.storage)->dt_crit);
+      for (int s = 0; s < 3; ++s) {
+        const auto a = long_lived->Step(net, dt);
+        const auto b = fresh->Step(resumed, dt);
+        ASSERT_TRUE(a.ok()) << a.status().ToString();
+        ASSERT_TRUE(b.ok()) << b.status().ToString();
+        ASSERT_TRUE(stale->Step(unedited, dt).ok());
+        EXPECT_EQ(a->dt_crit, b->dt_crit);
+        EXPECT_EQ(a->limiting_domain, b->limiting_domain);
+        for (std::size_t i = 0; i < net.num_domains(); ++i) {
+          EXPECT_EQ(net.pressure()[i], resumed.pressure()[i]) << "domain " << i << ", step " << s;
+        }
+      }
+      EXPECT_NE(Pressures(net), Pressures(unedited)) << "the edit must matter";
+    }
+  }
+}
+
+// A coefficient edit is checked where the refresh reads it, before any pressure is written: a
+// free domain whose storage volume became 0 (its update would divide by zero) and a NaN
+// conductance are refused naming the field and index, with the same message a fresh solver gives
+// on the edited network; once the value is restored the same solver steps again.
+TEST(FlowNetwork, ExplicitCoefficientEditIsCheckedBeforeAnyPressureIsWritten) {
+  for (const StorageVolume storage : {StorageVolume::kPore, StorageVolume::kApparent}) {
+    const std::string field = storage == StorageVolume::kPore ? "pore_volume" : "apparent_volume";
+    SCOPED_TRACE(field);
+    FlowNetworkData d = testing::MakeRandomClosedData(30, 20, 5);
+    d.role[0] = DomainRole::kFixedPressure;
+    FlowNetwork net = testing::MakeOrDie(d);
+    ExplicitSolverOptions options;
+    options.storage.volume = storage;
+    auto solver = ExplicitSolver::Create(options);
+    ASSERT_TRUE(solver.ok());
+    const double dt = 0.5 * solver->CriticalStep(net)->dt_crit;
+    ASSERT_TRUE(solver->Step(net, dt).ok());
+    const std::vector<double> before = Pressures(net);
+
+    // Domain 12 collapses: V_p = V_d = 0 (a valid network, but not for a free domain's update).
+    const double kept_pore = net.pore_volume()[12], kept_apparent = net.apparent_volume()[12];
+    net.mutable_pore_volume()[12] = 0.0;
+    net.mutable_apparent_volume()[12] = 0.0;
+    const auto refused = solver->Step(net, dt);
+    EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(refused.status().message().rfind("flow.network." + field + "[12]: ", 0), 0u)
+        << refused.status().message();
+    EXPECT_EQ(Pressures(net), before);
+    FlowNetwork copy = net;
+    auto fresh = ExplicitSolver::Create(options);
+    ASSERT_TRUE(fresh.ok());
+    EXPECT_EQ(fresh->Step(copy, dt).status().message(), refused.status().message());
+    net.mutable_pore_volume()[12] = kept_pore;
+    net.mutable_apparent_volume()[12] = kept_apparent;
+    ASSERT_TRUE(solver->Step(net, dt).ok());
+    EXPECT_NE(Pressures(net), before);
+
+    const std::vector<double> before_nan = Pressures(net);
+    const double kept_c = net.pipe_conductance()[7];
+    net.mutable_pipe_conductance()[7] = std::numeric_limits<double>::quiet_NaN();
+    const auto nan = solver->Step(net, dt);
+    EXPECT_EQ(nan.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(nan.status().message().rfind("flow.network.pipe_conductance[7]: ", 0), 0u)
+        << nan.status().message();
+    EXPECT_EQ(Pressures(net), before_nan);
+    net.mutable_pipe_conductance()[7] = kept_c;
+    EXPECT_TRUE(solver->Step(net, dt).ok());
+  }
+}
+
+// A refused coefficient edit leaves nothing trusted behind: a copy of the network taken before
+// the edit (its stamps are the pre-edit ones) then steps, and reports its limit, exactly as with
+// a fresh solver. And the long-lived solver refuses what a fresh one refuses, also for values it
+// does not read (pore_volume above apparent_volume with apparent storage, a negative volume).
+TEST(FlowNetwork, ExplicitRefusedEditLeavesNoHalfRefreshedCache) {
+  FlowNetwork net = FixedAndSourceNetwork(30, 20, 5, 20);
+  ExplicitSolverOptions options;
+  auto solver = ExplicitSolver::Create(options);
+  ASSERT_TRUE(solver.ok());
+  const double dt = 0.5 * solver->CriticalStep(net)->dt_crit;
+  ASSERT_TRUE(solver->Step(net, dt).ok());
+  FlowNetwork backup = net;
+  net.mutable_pore_volume()[1] = 0.0;
+  ASSERT_FALSE(solver->Step(net, dt).ok());
+  auto fresh = ExplicitSolver::Create(options);
+  ASSERT_TRUE(fresh.ok());
+  FlowNetwork twin = backup;
+  const auto limit = solver->CriticalStep(backup);
+  ASSERT_TRUE(limit.ok());
+  EXPECT_EQ(limit->dt_crit, fresh->CriticalStep(twin)->dt_crit);
+  EXPECT_EQ(limit->limiting_domain, fresh->CriticalStep(twin)->limiting_domain);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(solver->Step(backup, dt).ok());
+    ASSERT_TRUE(fresh->Step(twin, dt).ok());
+  }
+  EXPECT_EQ(Pressures(backup), Pressures(twin));
+  EXPECT_EQ(solver->Step(backup, 100.0 * limit->dt_crit).status().code(),
+            StatusCode::kFailedPrecondition);
+
+  for (const auto& [field, value] :
+       {std::pair<std::string, double>{"pore_volume[3]", 3.0 * backup.apparent_volume()[3]},
+        std::pair<std::string, double>{"apparent_volume[4]", -1.0}}) {
+    SCOPED_TRACE(field);
+    FlowNetwork edited = backup;
+    ASSERT_TRUE(solver->Step(edited, dt).ok());  // the solver knows this topology
+    if (field.starts_with("pore")) {
+      edited.mutable_pore_volume()[3] = value;
+    } else {
+      edited.mutable_apparent_volume()[4] = value;
+    }
+    FlowNetwork edited_twin = edited;
+    auto another = ExplicitSolver::Create(options);
+    ASSERT_TRUE(another.ok());
+    const auto kept = solver->Step(edited, dt);
+    const auto refused = another->Step(edited_twin, dt);
+    EXPECT_EQ(kept.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(kept.status().message(), refused.status().message());
+    EXPECT_NE(kept.status().message().find(field), std::string::npos) << kept.status().message();
+  }
+}
+
+// After coefficient edits the solver's cached limit is ComputeCriticalTimeStep's, field by field
+// and to the bit, so the governor refuses exactly the steps the documented formula forbids. On a
+// square lattice with a Dirichlet left column every interior domain ties (same V_s, four equal
+// pipes): the lowest index wins, domain 9, until a shrunken domain takes over and after its
+// volume is restored the tie goes back to 9.
+TEST(FlowNetwork, ExplicitCriticalStepAfterCoefficientEditsIsTheFormulas) {
+  const LatticeParams lp;
+  for (const StorageVolume storage : {StorageVolume::kPore, StorageVolume::kApparent}) {
+    SCOPED_TRACE(std::string(StorageVolumeName(storage)));
+    FlowNetworkData d = testing::MakeSquareLatticeData(8, 6, lp);
+    for (int j = 0; j < 6; ++j) {
+      d.role[static_cast<std::size_t>(j * 8)] = DomainRole::kFixedPressure;
+      d.pressure[static_cast<std::size_t>(j * 8)] = 1e5;
+    }
+    FlowNetwork net = testing::MakeOrDie(d);
+    ExplicitSolverOptions options;
+    options.bulk_modulus = lp.bulk_modulus;
+    options.storage = {storage, 0.7};
+    auto solver = ExplicitSolver::Create(options);
+    ASSERT_TRUE(solver.ok());
+    auto expect_formula = [&](const char* what, std::int32_t limiting) {
+      SCOPED_TRACE(what);
+      const auto got = solver->CriticalStep(net);
+      const auto want = ComputeCriticalTimeStep(net, options.bulk_modulus, options.storage);
+      ASSERT_TRUE(got.ok()) << got.status().ToString();
+      ASSERT_TRUE(want.ok());
+      EXPECT_EQ(got->dt_crit, want->dt_crit);
+      EXPECT_EQ(got->limiting_domain, want->limiting_domain);
+      EXPECT_EQ(got->limiting_storage_volume, want->limiting_storage_volume);
+      EXPECT_EQ(got->limiting_conductance_sum, want->limiting_conductance_sum);
+      EXPECT_EQ(want->limiting_domain, limiting);
+      // The governor: safety * dt_crit is allowed, one ulp more is refused.
+      const double allowed = options.safety_factor * want->dt_crit;
+      EXPECT_EQ(solver->Step(net, std::nextafter(allowed, 1.0)).status().code(),
+                StatusCode::kFailedPrecondition);
+      EXPECT_TRUE(solver->Step(net, allowed).ok());
+    };
+    expect_formula("as built", 9);
+    const double kept =
+        (storage == StorageVolume::kPore ? net.pore_volume() : net.apparent_volume())[30];
+    MutableStorageVolume(net, storage)[30] = 0.25 * kept;
+    expect_formula("domain 30 shrunk", 30);
+    std::vector<double> a(net.num_pipes(), lp.Aperture());
+    a[0] = 1.2 * lp.Aperture();  // domains 0 (fixed) and 1 (an edge domain, 3 pipes)
+    ASSERT_TRUE(net.SetApertures(a, lp.viscosity).ok());
+    expect_formula("apertures set", 30);
+    net.mutable_pipe_conductance()[0] *= 40.0;  // domain 1 now drains fastest
+    expect_formula("one conductance raised", 1);
+    net.mutable_pipe_conductance()[0] = lp.Conductance();
+    MutableStorageVolume(net, storage)[30] = kept;
+    expect_formula("restored", 9);
+  }
 }
 
 }  // namespace

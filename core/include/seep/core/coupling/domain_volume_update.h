@@ -3,8 +3,7 @@
 //
 // The loops of a DomainNetwork stay valid while the contacts that bound them persist, so between
 // re-detections V_d and V_p are recomputed from the loops alone, with the formulas of
-// domain_detection.h and the detector's arithmetic (same shoelace origin and summation order;
-// the wedge angle is one atan2 of cross and dot rather than a difference of two edge angles), so
+// domain_detection.h and the detector's arithmetic (same shoelace origin and summation order), so
 // at the detection positions the values agree with the detector's to round-off:
 //   V_d = shoelace area of the loop's centres - areas of the islands it hosts;
 //   V_p = V_d - sum_k (theta_k/2) R_k^2 + half the lens of every overlapping loop contact
@@ -14,6 +13,16 @@
 // once per topology by Bind() as the difference between the detector's V_p and the loop formula;
 // disks are rigid, so it changes only through the lenses of rattler overlaps (second order, below
 // the overlap tolerance of the DEM) until the next detection re-binds.
+//
+// Cost (the coupled step runs this at every flow update). Bind measures every wedge angle once
+// with atan2; Compute then works per distinct loop contact ("edge"): the angle its edge has
+// turned since Bind (a short series, atan2 only beyond 1/32 rad) and half its lens (a short
+// series for overlaps shallower than R/16, LensArea beyond), in one branch-free vectorised pass.
+// A wedge angle is its Bind value plus the turn of the edge into it minus the turn of the edge
+// out of it, so the sector sum regroups per edge and each loop entry adds one precomputed term;
+// with the sector sums at Bind (kept while the radii are those of Bind) the result equals the
+// per-wedge formula to round-off. On the 9,900-disk bench bed (18,228 edges, 8,365 domains) a
+// Compute takes about 0.24 ms, where an atan2 and a lens per loop entry took about 1 ms.
 //
 // Which dV to use: the fluid volume change is dV_p (R1, exact conservation); for equal disks
 // dV_d = dV_p exactly, and PFC's eq. 4 uses dV_d. Pass the one matching the storage model.

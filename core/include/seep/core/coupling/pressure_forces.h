@@ -34,9 +34,11 @@
 // arc's). One contact fraction and four pressure reads per contact replace two arm computations
 // per loop entry, and a uniform pressure cancels exactly, contact by contact (V14 to the bit).
 //
-// Cost: O(contacts on loops) per call, no allocation after Bind. Forces are added in a fixed
-// order (contacts in ascending id), single threaded, so the result is bit-identical for a given
-// input.
+// Cost: O(contacts on loops) per call, no allocation after Bind. One thread adds each contact's
+// two contributions to its particles in ascending contact order; several threads write them to
+// per-contact slots and then each particle adds its slots one by one in that same order (OpenMP
+// over contacts, then over particles): the same additions in the same order, so the result is
+// bit-identical for a given input on any thread count.
 #pragma once
 
 #include <cstdint>
@@ -53,7 +55,8 @@ namespace seep::core {
 //   domain_pressure     one per domain of `network`, Pa;
 //   outer_arc_pressure  one per entry of network.outer_particles, Pa, or empty: no outside fluid
 //                       (zero gauge pressure outside every outer walk, islands included).
-// Errors (InvalidArgument, nothing added): array sizes, loop particle ids out of range.
+// Errors (nothing added): InvalidArgument for array sizes and loop particle ids out of range;
+// Internal for loops that do not walk every contact once in each direction (see Bind).
 Status AddPressureForces(const ParticleView& particles, const DomainNetwork& network,
                          std::span<const double> domain_pressure,
                          std::span<const double> outer_arc_pressure, std::span<double> fx,
@@ -69,7 +72,8 @@ class PressureForceKernel {
   // not produced by the DomainDetector); particle ids are checked against num_particles.
   Status Bind(const DomainNetwork& network, std::size_t num_particles);
   // Adds the forces for the bound network; slot_pressure has num_slots() entries, fx and fy one
-  // per particle (sizes are the caller's duty: this is the hot path).
+  // per particle (sizes are the caller's duty: this is the hot path). Uses the kernel's scratch:
+  // one kernel per calling thread.
   void Apply(const ParticleView& particles, const double* slot_pressure, double* fx,
              double* fy) const;
   std::size_t num_slots() const { return num_slots_; }
@@ -83,6 +87,10 @@ class PressureForceKernel {
   };
   std::vector<ContactTerms> terms_;
   std::size_t num_slots_ = 0;
+  // Per particle, its contact sides (2 x contact + 0 for lo, 1 for hi) in ascending order (CSR).
+  std::vector<std::int32_t> side_start_, side_items_;
+  // Scratch of Apply: the force on each contact side.
+  mutable std::vector<double> side_fx_, side_fy_;
 };
 
 // Outside pressure of every outer-loop arc from the boundary conditions of the flow problem.

@@ -143,9 +143,10 @@ class DemContactForces {
   // valid while pair_table_version() is unchanged; it changes at every rebuild and restore.
   std::uint64_t pair_table_version() const { return pair_table_version_; }
   // index[m] = the pair of (i[m], j[m]) in the table, or -1 if it is not listed; i, j sorted by
-  // (i, j) with i < j (a ContactList). O(pairs + m).
-  void FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
-                 std::vector<std::int32_t>* index) const;
+  // (i, j) with i < j (a ContactList). O(pairs + m). InvalidArgument (index untouched) when i
+  // and j differ in size or are not sorted.
+  Status FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
+                   std::vector<std::int32_t>* index) const;
   // Normal force of the last pass (> 0 compression; contact law + intact bond; 0 for a listed
   // pair that neither touches nor is bonded) and its gap.
   double pair_normal_force(std::int32_t k) const { return pairs_[static_cast<std::size_t>(k)].fn; }

@@ -49,6 +49,10 @@ class CoupledStepper {
   // run report). Not state: never checkpointed, never read by the physics.
   std::vector<std::pair<std::string_view, double>> EffectSeconds() const;
 
+  // V_p of every flow node as a report shows it: current, also where the step keeps the
+  // detected V_p (apparent storage; see VolumeChangeEffect).
+  std::vector<double> ReportedPoreVolumes() const;
+
   void SaveTo(MechanicsSnapshot* out) const;
   // Restores the state of a stepper of the same scene; DATA_LOSS naming what does not fit. The
   // flow pressures are restored by the caller afterwards (they are part of SimulationSnapshot).

@@ -124,7 +124,8 @@ class Effect {
     return Status::Ok();
   }
   // Adds what the effect keeps current only for reports (not for the step) to a snapshot that
-  // the stepper has filled from the state.
+  // the stepper has filled from the state; reads and writes only the fields it owns (the
+  // stepper also calls it on a snapshot holding just those, for a run's report).
   virtual void CompleteSnapshot(const CoupledState& /*state*/, MechanicsSnapshot* /*out*/) const {}
 };
 

@@ -70,6 +70,11 @@ class FlowNetwork {
   // "flow.network.pore_volume[3]: must be finite and >= 0 (got -1e-07)".
   static Status Validate(const FlowNetworkData& data);
   Status Validate() const { return Validate(data_); }
+  // The part of Validate that a coefficient edit can break (volumes, source rates, lengths,
+  // apertures, conductances), for callers that validated the topology already. Sizes are
+  // assumed to be right. Branch-free passes: cheap enough for every flow update.
+  static Status ValidateCoefficients(const FlowNetworkData& data);
+  Status ValidateCoefficients() const { return ValidateCoefficients(data_); }
 
   std::size_t num_domains() const { return data_.pressure.size(); }
   std::size_t num_pipes() const { return data_.pipe_conductance.size(); }

@@ -1,0 +1,16 @@
+// How many threads the core's parallel loops (OpenMP) use on the calling thread. Results do not
+// depend on it (every parallel loop is bit-identical on any thread count); only speed does. A
+// job service that runs several jobs at once gives each its share of the cores: two jobs of two
+// threads each on two cores wait at every barrier for a descheduled thread, which was measured
+// to slow a coupled step down up to 100x.
+#pragma once
+
+namespace seep::core {
+
+// Sets the thread count of the core's parallel loops started from the calling thread (>= 1).
+void SetCoreThreadsForThisThread(int threads);
+
+// The cores of this machine shared out among `concurrent_jobs` jobs: max(1, cores / jobs).
+int CoreThreadsPerJob(int concurrent_jobs);
+
+}  // namespace seep::core

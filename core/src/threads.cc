@@ -1,0 +1,17 @@
+#include "seep/core/threads.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace seep::core {
+
+void SetCoreThreadsForThisThread(int threads) { omp_set_num_threads(std::max(1, threads)); }
+
+int CoreThreadsPerJob(int concurrent_jobs) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, cores / std::max(1, concurrent_jobs));
+}
+
+}  // namespace seep::core
