@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "coupled_scenes.h"
 
@@ -39,6 +40,12 @@ TEST(HydraulicFracturing, BreaksDownNearHubbertWillisAndKeepsTheFluidBudget) {
   ASSERT_TRUE(run.ok()) << run.message();
   EXPECT_TRUE(all_finite);
   const RunReport report = sim.Report();
+  std::printf(
+      "HF: breakdown %.4g Pa at %.4g s, %g bonds broken, %g re-detections, breakthrough "
+      "at %.4g s, largest mass-balance error %.3g\n",
+      Metric(report, "breakdown_pressure_pa"), Metric(report, "breakdown_time_s"),
+      Metric(report, "bonds_broken"), Metric(report, "redetections"),
+      Metric(report, "breakthrough_time_s"), Metric(report, "mass_balance_error_max"));
 
   // Breakdown of a hole in a plate under equal confinement sigma with tensile strength T
   // (Hubbert & Willis): P_b = 2 sigma + T = 3e5 Pa. The bonded lattice is not a continuum (its
