@@ -324,20 +324,15 @@ Status CoupledStepper::RestoreFrom(const MechanicsSnapshot& snap) {
       std::copy(snap.apparent_volume.begin(), snap.apparent_volume.end(),
                 s.net.flow.mutable_apparent_volume().begin());
     }
-    // With apparent storage the state keeps V_p as detected (the snapshot's are the current
-    // ones, for reports: see VolumeChangeEffect), so the resumed state equals the uninterrupted.
-    const bool pore_is_state = scene_.solver.storage == StorageVolumeKind::kPore;
-    if (pore_is_state && !std::equal(snap.pore_volume.begin(), snap.pore_volume.end(),
-                                     s.net.flow.pore_volume().begin())) {
+    if (!std::equal(snap.pore_volume.begin(), snap.pore_volume.end(),
+                    s.net.flow.pore_volume().begin())) {
       std::copy(snap.pore_volume.begin(), snap.pore_volume.end(),
                 s.net.flow.mutable_pore_volume().begin());
     }
     std::copy(snap.apparent_volume.begin(), snap.apparent_volume.begin() + domains,
               s.net.domains.apparent_volume.begin());
-    if (pore_is_state) {
-      std::copy(snap.pore_volume.begin(), snap.pore_volume.begin() + domains,
-                s.net.domains.pore_volume.begin());
-    }
+    std::copy(snap.pore_volume.begin(), snap.pore_volume.begin() + domains,
+              s.net.domains.pore_volume.begin());
   }
   s.bonds_broken = snap.bonds_broken;
   s.topology_version = snap.topology_version;

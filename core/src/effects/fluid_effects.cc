@@ -113,9 +113,10 @@ class VolumeChangeEffect final : public Effect {
 
   // New volumes into the network, dV of the storage volume over the interval into the state.
   // With apparent storage V_p enters no equation of the step, so only V_d is recomputed (the
-  // wedge angles and lenses of V_p are most of the cost); the network keeps the V_p of the last
-  // detection or restore, and every snapshot carries V_p fresh from the positions
-  // (CompleteSnapshot), so what a checkpoint, an export or a state hash shows is current.
+  // wedge angles and lenses of V_p are most of the cost). The network keeps the V_p of the last
+  // detection or restore, capped at V_d so that it stays a valid network; every snapshot and
+  // report carries V_p fresh from the positions (CompleteSnapshot), so what a checkpoint, an
+  // export, a result or a state hash shows is current, and is the same for a resumed run.
   Status EndOfStep(CoupledState& s, const StepInfo& info) override {
     if (!info.flow_update) return Status::Ok();
     const bool pore = storage_.volume == StorageVolume::kPore;
@@ -147,6 +148,12 @@ class VolumeChangeEffect final : public Effect {
     if (pore) {
       std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
       std::copy(pore_.begin(), pore_.end(), s.net.domains.pore_volume.begin());
+    } else {
+      const std::span<double> kept = s.net.flow.mutable_pore_volume();
+      for (std::size_t d = 0; d < n; ++d) {
+        kept[d] = std::min(kept[d], apparent_[d]);
+        s.net.domains.pore_volume[d] = kept[d];
+      }
     }
     return Status::Ok();
   }
