@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # Runs the LAMMPS peer bench and seep's DEM bench in the same session, twice each.
-# usage: bash run_all.sh [OUT=/tmp/lammps_bench] ["1 10" = RX values]   (needs: apt-get install -y lammps)
+# usage: bash run_all.sh [OUT=build/lammps_bench] ["1 10" = RX values]   (needs: apt-get install -y lammps)
+# The seep bench is taken from BUILD (default build/check, what scripts/check.sh builds); paths are
+# relative to the repository.
 # Before each run it prints `uptime` and the top 3 processes; during each run a sampler writes the
 # processes using > 20% CPU every 2 s to OUT/busy.*.txt (anything but lmp / seep_dem_bench there
 # means the run shared the machine). QUIET_WAIT=600 waits up to 600 s for a quiet machine before each run.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/../../.." && pwd)            # /work/main
+ROOT=$(cd "$HERE/../../.." && pwd)  # the repository
 BED=$ROOT/../shared/bench/settled_bed_9900.txt
-SEEP=$ROOT/build/rel/bench/dem/seep_dem_bench
-OUT=${1:-/tmp/lammps_bench}
+SEEP=$ROOT/${BUILD:-build/check}/bench/dem/seep_dem_bench
+OUT=${1:-$ROOT/build/lammps_bench}
 RXS=${2:-1 10}
 mkdir -p "$OUT"
 python3 "$HERE/bed_to_lammps.py" "$BED" "$OUT/bed_9900.data"
