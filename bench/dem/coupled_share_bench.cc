@@ -164,8 +164,8 @@ int main(int argc, char** argv) {
   }
   const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000;
   const std::uint64_t flow_every = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
-  if (steps < 1 || flow_every < 1) {
-    std::fprintf(stderr, "steps and flow_every must be >= 1\n");
+  if (steps < 1 || flow_every < 1 || flow_every > UINT32_MAX) {
+    std::fprintf(stderr, "steps must be >= 1 and flow_every in [1, 2^32)\n");
     return 2;
   }
   Result<Packing> bed = LoadPackingFile(argv[1]);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "../branch_free.h"
 #include "../parallel_threshold.h"
 
 namespace seep::core {
@@ -90,23 +91,18 @@ Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
   const double* __restrict keep = keep_.data();
   double* __restrict out = aperture_.data();
   const ApertureLaw law = law_;
-  // Branch-free so that it vectorises: both branches of the law, then a select (aperture_law.h).
-  // The counts are sums of 0s and 1s: exact in any order, so threads change no bit.
+  // Branch-free so that it vectorises (Aperture selects between its branches). The counts are
+  // sums of 0s and 1s: exact in any order, so threads change no bit.
   double changed = 0.0, bad = 0.0;
   const auto n = static_cast<std::ptrdiff_t>(num_pipes);
 #pragma omp parallel for simd schedule(static) reduction(+ : changed, bad) \
     if (n >= internal::kMinParallelItems)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const double f = force[p], g = gap[p];
-    // x - x is 0 exactly for finite x and NaN otherwise (isfinite would stop the vectoriser).
-    const bool finite = (keep[p] != 0.0) | ((f - f == 0.0) & (g - g == 0.0));
+    const bool finite =
+        (keep[p] != 0.0) | (internal::FiniteBranchFree(f) & internal::FiniteBranchFree(g));
     bad += finite ? 0.0 : 1.0;
-    const double by_force =
-        law.residual_aperture * law.reference_force / (std::max(f, 0.0) + law.reference_force);
-    const double by_gap = law.residual_aperture + law.gap_multiplier * std::max(g, 0.0);
-    double a = f > 0.0 ? by_force : by_gap;
-    a = a < law.max_aperture ? a : law.max_aperture;
-    a = keep[p] != 0.0 ? current[p] : a;
+    const double a = keep[p] != 0.0 ? current[p] : Aperture(law, f, g);
     out[p] = a;
     changed += a != current[p] ? 1.0 : 0.0;
   }

@@ -21,33 +21,19 @@ struct LoopMeasure {
   double pore_terms = 0.0;   // sum over the loop's edges of (half lens - turn term), see Compute
 };
 
-// Half the lens of the pair lo < hi with centre offset (dx, dy), by LensArea's formulas, when the
-// overlap is shallow (chord half-length below R/16 on both disks, both segments minor: every
-// DEM contact) or absent (the Heron product clamps to 0, so h = 0 and so is the series): sets
-// *half and returns true without a branch; otherwise returns false (use HalfLens).
+// Half the lens of the pair lo < hi with centre offset (dx, dy): ShallowLensArea's (sets *half,
+// true) when it covers the pair, as for every DEM contact.
 inline bool ShallowHalfLens(double r_lo, double r_hi, double inv_r_lo, double inv_r_hi, double dx,
                             double dy, double* half) {
-  const double d2 = dx * dx + dy * dy;
-  const double sum = r_lo + r_hi;
-  const double d = std::sqrt(d2);
-  const double diff = r_lo - r_hi;
-  const double inv_2d = 0.5 / d;
-  const double a_lo = (d2 + r_lo * r_lo - r_hi * r_hi) * inv_2d;  // centre lo to the chord
-  const double a_hi = d - a_lo;
-  const double h =
-      std::sqrt(std::max(0.0, (sum + d) * (sum - d) * (d + diff) * (d - diff))) * inv_2d;
-  const double t_lo = h * inv_r_lo;
-  const double t_hi = h * inv_r_hi;
-  *half =
-      0.5 * (r_lo * r_lo * MinorSegmentUnitSmall(t_lo) + r_hi * r_hi * MinorSegmentUnitSmall(t_hi));
-  return (d > std::abs(diff)) & (a_lo >= 0.0) & (a_hi >= 0.0) & (t_lo < 0.0625) & (t_hi < 0.0625);
+  double lens = 0.0;
+  const bool covered =
+      ShallowLensArea(r_lo, r_hi, inv_r_lo, inv_r_hi, std::sqrt(dx * dx + dy * dy), &lens);
+  *half = 0.5 * lens;
+  return covered;
 }
 
-// Half the lens of any pair (LensArea for what ShallowHalfLens does not cover).
-inline double HalfLens(double r_lo, double r_hi, double inv_r_lo, double inv_r_hi, double dx,
-                       double dy) {
-  double half = 0.0;
-  if (ShallowHalfLens(r_lo, r_hi, inv_r_lo, inv_r_hi, dx, dy, &half)) return half;
+// Half the lens of any pair.
+inline double HalfLens(double r_lo, double r_hi, double dx, double dy) {
   return 0.5 * LensArea(r_lo, r_hi, std::sqrt(dx * dx + dy * dy));
 }
 
@@ -160,7 +146,7 @@ Status DomainVolumeUpdater::Check(const ParticleView& particles, const DomainNet
 // carries one term per direction (ComputeEdgeTerms) and each loop entry adds one of them.
 template <bool kPore>
 void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
-                                           const DomainNetwork& network,
+                                           const DomainNetwork& network, const SectorSums& sectors,
                                            std::span<double> apparent_volume,
                                            std::span<double> pore_volume) const {
   const double* term = edge_term_.data();
@@ -173,7 +159,8 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
                                              static_cast<std::size_t>(network.loop_offsets[d]),
                                              static_cast<std::size_t>(network.loop_offsets[d + 1]));
     apparent_volume[d] = m.signed_area;
-    if constexpr (kPore) pore_volume[d] = m.signed_area - loop_sector_[d] + m.pore_terms;
+    if constexpr (kPore)
+      pore_volume[d] = m.signed_area - sectors.loop[static_cast<std::size_t>(d)] + m.pore_terms;
   }
   // Islands: the host loses the area inside the island's outer walk (traced clockwise, so its
   // signed area is negative) and, from V_p, the island's solid outside that walk.
@@ -188,7 +175,7 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
     const double inside = -m.signed_area;
     apparent_volume[static_cast<std::size_t>(host)] -= inside;
     if constexpr (kPore) {
-      pore_volume[static_cast<std::size_t>(host)] -= inside + (outer_sector_[k] - m.pore_terms);
+      pore_volume[static_cast<std::size_t>(host)] -= inside + (sectors.outer[k] - m.pore_terms);
     }
   }
 }
@@ -213,24 +200,22 @@ void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::i
 
 }  // namespace
 
-void DomainVolumeUpdater::PrepareSectors(const ParticleView& particles,
-                                         const DomainNetwork& network) const {
-  same_radii_ = std::equal(particles.radius.begin(), particles.radius.end(), bind_radius_.begin(),
-                           bind_radius_.end());
-  if (same_radii_) {
-    loop_sector_ = bind_loop_sector_;
-    outer_sector_ = bind_outer_sector_;
-    return;
+DomainVolumeUpdater::SectorSums DomainVolumeUpdater::Sectors(const ParticleView& particles,
+                                                             const DomainNetwork& network) const {
+  if (std::equal(particles.radius.begin(), particles.radius.end(), bind_radius_.begin(),
+                 bind_radius_.end())) {
+    return SectorSums{bind_loop_sector_, bind_outer_sector_, true};
   }
   SectorsAtBind(network.loop_offsets, network.loop_particles, loop_theta0_, particles.radius.data(),
                 &loop_sector_);
   SectorsAtBind(network.outer_offsets, network.outer_particles, outer_theta0_,
                 particles.radius.data(), &outer_sector_);
+  return SectorSums{loop_sector_, outer_sector_, false};
 }
 
-void DomainVolumeUpdater::ComputeEdgeTerms(const ParticleView& particles) const {
+void DomainVolumeUpdater::ComputeEdgeTerms(const ParticleView& particles, bool bind_radii) const {
   // 1/R from Bind while the radii are those of Bind (a DEM's are), else divided afresh.
-  if (same_radii_) {
+  if (bind_radii) {
     ComputeEdgeTermsWith<true>(particles);
   } else {
     ComputeEdgeTermsWith<false>(particles);
@@ -296,7 +281,7 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
     const double dy = y[hi] - y[lo];
     const double turn = TurnAngle(x0[e] * dy - y0[e] * dx, x0[e] * dx + y0[e] * dy);
     const double r_lo = r[lo], r_hi = r[hi];
-    const double half_lens = HalfLens(r_lo, r_hi, 1.0 / r_lo, 1.0 / r_hi, dx, dy);
+    const double half_lens = HalfLens(r_lo, r_hi, dx, dy);
     const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
     term[2 * e] = half_lens - sector_turn;
     term[2 * e + 1] = half_lens + sector_turn;
@@ -304,6 +289,7 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
 }
 
 Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const DomainNetwork& network) {
+  std::vector<std::int32_t> edge_of_contact;  // contact id -> edge, -1 before its first walk
   const auto bind_loops =
       [&](std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
           std::span<const std::int32_t> contacts, const char* field,
@@ -325,8 +311,8 @@ Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const Domai
                                  " is negative");
         }
         const auto cu = static_cast<std::size_t>(c);
-        if (cu >= edge_of_contact_.size()) edge_of_contact_.resize(cu + 1, -1);
-        std::int32_t& edge = edge_of_contact_[cu];
+        if (cu >= edge_of_contact.size()) edge_of_contact.resize(cu + 1, -1);
+        std::int32_t& edge = edge_of_contact[cu];
         if (edge < 0) {
           edge = static_cast<std::int32_t>(edge_lo_.size());
           edge_lo_.push_back(lo);
@@ -349,7 +335,6 @@ Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const Domai
     }
     return Status::Ok();
   };
-  edge_of_contact_.clear();
   edge_lo_.clear();
   edge_hi_.clear();
   edge_x0_.clear();
@@ -403,9 +388,9 @@ Status DomainVolumeUpdater::Bind(const ParticleView& particles, const DomainNetw
   std::vector<double> apparent(num_domains);
   rattler_correction_.assign(num_domains, 0.0);
   // At the bind positions every turn is 0: the wedge angles are the atan2 values themselves.
-  PrepareSectors(particles, network);
-  ComputeEdgeTerms(particles);
-  ComputeGeometric<true>(particles, network, apparent, rattler_correction_);
+  const SectorSums sectors = Sectors(particles, network);
+  ComputeEdgeTerms(particles, sectors.bind_radii);
+  ComputeGeometric<true>(particles, network, sectors, apparent, rattler_correction_);
   for (std::size_t d = 0; d < num_domains; ++d) {
     rattler_correction_[d] = network.pore_volume[d] - rattler_correction_[d];
   }
@@ -433,9 +418,9 @@ Status DomainVolumeUpdater::Compute(const ParticleView& particles, const DomainN
         "coupling.domain_volume: apparent_volume and pore_volume differ in size");
   }
   SEEP_RETURN_IF_ERROR(Check(particles, network, apparent_volume.size()));
-  PrepareSectors(particles, network);
-  ComputeEdgeTerms(particles);
-  ComputeGeometric<true>(particles, network, apparent_volume, pore_volume);
+  const SectorSums sectors = Sectors(particles, network);
+  ComputeEdgeTerms(particles, sectors.bind_radii);
+  ComputeGeometric<true>(particles, network, sectors, apparent_volume, pore_volume);
   for (std::size_t d = 0; d < pore_volume.size(); ++d) pore_volume[d] += rattler_correction_[d];
   return Status::Ok();
 }
@@ -445,7 +430,7 @@ Status DomainVolumeUpdater::ComputeApparent(const ParticleView& particles,
                                             std::span<double> apparent_volume) const {
   SEEP_RETURN_IF_ERROR(CheckBound(network));
   SEEP_RETURN_IF_ERROR(Check(particles, network, apparent_volume.size()));
-  ComputeGeometric<false>(particles, network, apparent_volume, {});
+  ComputeGeometric<false>(particles, network, SectorSums{}, apparent_volume, {});
   return Status::Ok();
 }
 

@@ -152,7 +152,7 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
 
 namespace {
 
-// The forces of contact t on its two particles (lo, then hi), into *lo_x.. in that order.
+// The pressure force of one contact on its lo and on its hi particle.
 struct SideForces {
   double lo_x, lo_y, hi_x, hi_y;
 };
@@ -161,20 +161,14 @@ struct SideForces {
 
 void PressureForceKernel::Apply(const ParticleView& particles, const double* slot_pressure,
                                 double* fx, double* fy) const {
-  const double* x = particles.x.data();
-  const double* y = particles.y.data();
-  const double* r = particles.radius.data();
   const ContactTerms* terms = terms_.data();
+  // Each side's pressure difference times R(arm), R(v) = (v_y, -v_x) (see the header).
   const auto forces_of = [&](std::ptrdiff_t c) {
     const ContactTerms& t = terms[c];
-    const auto lo = static_cast<std::size_t>(t.lo);
-    const auto hi = static_cast<std::size_t>(t.hi);
-    const double dx = x[hi] - x[lo];
-    const double dy = y[hi] - y[lo];
-    const double f = ContactFraction(r[lo], r[hi], dx * dx + dy * dy);
-    const double k_lo = (slot_pressure[t.forward_lo] - slot_pressure[t.backward_lo]) * f;
-    const double k_hi = (slot_pressure[t.backward_hi] - slot_pressure[t.forward_hi]) * (f - 1.0);
-    return SideForces{k_lo * dy, -k_lo * dx, k_hi * dy, -k_hi * dx};
+    const ContactArms arm = ComputeContactArms(particles, t.lo, t.hi);
+    const double dp_lo = slot_pressure[t.forward_lo] - slot_pressure[t.backward_lo];
+    const double dp_hi = slot_pressure[t.backward_hi] - slot_pressure[t.forward_hi];
+    return SideForces{dp_lo * arm.ay, -dp_lo * arm.ax, dp_hi * arm.by, -dp_hi * arm.bx};
   };
   const auto contacts = static_cast<std::ptrdiff_t>(terms_.size());
   if (contacts < internal::kMinParallelItems || omp_get_max_threads() == 1) {

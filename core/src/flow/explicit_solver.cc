@@ -144,20 +144,8 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   for (std::size_t d = 0; d < n; ++d) {
     if (role[d] == DomainRole::kFixedPressure) continue;
     const double vs = StorageVolumeOf(network, options_.storage, d);
-    if (!(vs > 0.0 && std::isfinite(vs))) {
-      return InvalidArgument(
-          std::string("flow.network.") +
-          (options_.storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
-          "[" + std::to_string(d) + "]: storage volume of a non-fixed domain must be > 0 (got " +
-          flow_internal::FormatNumber(vs) + " with storage '" +
-          std::string(StorageVolumeName(options_.storage.volume)) +
-          "'); apply a volume floor, merge the domain, or fix its pressure");
-    }
-    if (!std::isfinite(q_src[d])) {
-      return InvalidArgument("flow.network.source_rate[" + std::to_string(d) +
-                             "]: must be finite (got " + flow_internal::FormatNumber(q_src[d]) +
-                             ")");
-    }
+    // (Volumes and source rates are finite: Prepare validated them.)
+    if (!(vs > 0.0)) return NonPositiveStorageVolume(options_.storage, d, vs);
     capacity_[d] = vs / bulk;
     rate_[d] = 1.0 / capacity_[d];
     // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "../branch_free.h"
 #include "../parallel_threshold.h"
 #include "step_input.h"
 
@@ -43,11 +44,11 @@ std::ptrdiff_t FirstFailing(const std::vector<double>& v, Ok ok) {
   return -1;
 }
 
-// x - x is 0 exactly for finite x and NaN for inf and NaN (isfinite would stop the vectoriser).
-inline bool Finite(double x) { return x - x == 0.0; }
+using internal::FiniteBranchFree;
 
 Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
-  const std::ptrdiff_t i = FirstFailing(v, [](double x) { return Finite(x) & (x >= 0.0); });
+  const std::ptrdiff_t i =
+      FirstFailing(v, [](double x) { return FiniteBranchFree(x) & (x >= 0.0); });
   if (i < 0) return Status::Ok();
   return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
                          ": must be finite and >= 0 (got " +
@@ -55,7 +56,8 @@ Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
 }
 
 Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
-  const std::ptrdiff_t i = FirstFailing(v, [](double x) { return Finite(x) & (x > 0.0); });
+  const std::ptrdiff_t i =
+      FirstFailing(v, [](double x) { return FiniteBranchFree(x) & (x > 0.0); });
   if (i < 0) return Status::Ok();
   return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
                          ": must be finite and > 0 (got " +
@@ -134,7 +136,7 @@ Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
 #pragma omp simd reduction(+ : bad)
   for (std::ptrdiff_t i = 0; i < nd; ++i) {
     const bool source_ok =
-        Finite(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
+        FiniteBranchFree(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
     bad += ((pore[i] <= apparent[i]) & source_ok) ? 0.0 : 1.0;
   }
   for (std::size_t i = 0; bad > 0.0 && i < static_cast<std::size_t>(nd); ++i) {
@@ -183,15 +185,15 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
     return InvalidArgument("flow.fluid.viscosity: must be finite and > 0 (got " +
                            flow_internal::FormatNumber(viscosity) + ")");
   }
-  // Checked in one branch-free pass (a x > 0 test that fails for NaN and, through a - a, for inf),
-  // then written in another: the coupled loop calls this at every flow update.
+  // Checked in one branch-free pass, then written in another: the coupled loop calls this at every
+  // flow update.
   const auto n = static_cast<std::ptrdiff_t>(aperture.size());
   const double* __restrict a_in = aperture.data();
   double bad = 0.0;
 #pragma omp parallel for simd schedule(static) reduction(+ : bad) \
     if (n >= internal::kMinParallelItems)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
-    bad += ((a_in[p] > 0.0) & (a_in[p] - a_in[p] == 0.0)) ? 0.0 : 1.0;
+    bad += ((a_in[p] > 0.0) & FiniteBranchFree(a_in[p])) ? 0.0 : 1.0;
   }
   if (bad > 0.0) {
     for (std::size_t p = 0; p < aperture.size(); ++p) {

@@ -14,16 +14,19 @@ Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
   for (std::size_t d = 0; d < n; ++d) {
     vs[d] = StorageVolumeOf(network, storage, d);
     if (role[d] != DomainRole::kFixedPressure && !(vs[d] > 0.0 && std::isfinite(vs[d]))) {
-      return InvalidArgument(
-          "flow.network." +
-          std::string(storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
-          "[" + std::to_string(d) + "]: storage volume of a non-fixed domain must be > 0 (got " +
-          std::to_string(vs[d]) + " with storage '" +
-          std::string(StorageVolumeName(storage.volume)) +
-          "'); apply a volume floor, merge the domain, or fix its pressure");
+      return NonPositiveStorageVolume(storage, d, vs[d]);
     }
   }
   return vs;
+}
+
+Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain, double volume) {
+  return InvalidArgument(
+      "flow.network." +
+      std::string(storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
+      "[" + std::to_string(domain) + "]: storage volume of a non-fixed domain must be > 0 (got " +
+      std::to_string(volume) + " with storage '" + std::string(StorageVolumeName(storage.volume)) +
+      "'); apply a volume floor, merge the domain, or fix its pressure");
 }
 
 Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,

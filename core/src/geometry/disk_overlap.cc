@@ -32,8 +32,9 @@ double LensArea(double r1, double r2, double distance) {
   const double r_small = std::min(r1, r2);
   if (distance <= std::abs(r1 - r2)) return std::numbers::pi * r_small * r_small;
   const double d = distance;
-  // Distances from each centre to the common chord, and the chord's half-length (Heron form,
-  // accurate when the overlap r1 + r2 - d is tiny).
+  double shallow = 0.0;
+  if (ShallowLensArea(r1, r2, 1.0 / r1, 1.0 / r2, d, &shallow)) return shallow;
+  // Deeper overlaps: the same formulas with the exact segments.
   const double a1 = (d * d + r1 * r1 - r2 * r2) / (2.0 * d);
   const double a2 = d - a1;
   const double h =

@@ -169,11 +169,7 @@ SceneFields CollectSceneFields(const Simulation& sim) {
   f.domain_pressure.assign(flow.pressure().begin(), flow.pressure().begin() + domains);
   f.domain_apparent_volume.assign(flow.apparent_volume().begin(),
                                   flow.apparent_volume().begin() + domains);
-  // A moving scene's current V_p (the step may keep the detected one: see Simulation).
-  const std::vector<double> pore =
-      sim.coupled() != nullptr
-          ? sim.coupled()->ReportedPoreVolumes()
-          : std::vector<double>(flow.pore_volume().begin(), flow.pore_volume().end());
+  const std::vector<double> pore = sim.PoreVolumes();
   f.domain_pore_volume.assign(pore.begin(), pore.begin() + static_cast<std::ptrdiff_t>(domains));
   f.domain_loop_offsets = d.loop_offsets;
   f.domain_loop_particles = d.loop_particles;

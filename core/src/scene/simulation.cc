@@ -489,6 +489,12 @@ RunReport Simulation::Report() const {
   return run;
 }
 
+std::vector<double> Simulation::PoreVolumes() const {
+  if (coupled_) return coupled_->ReportedPoreVolumes();
+  const auto pore = net_.flow.pore_volume();
+  return {pore.begin(), pore.end()};
+}
+
 void Simulation::AddNetworkMetrics(Metrics& m) const {
   const SceneNetwork& net = network();
   if (scene_.boundary.radial) {
@@ -498,9 +504,7 @@ void Simulation::AddNetworkMetrics(Metrics& m) const {
     m["sample_length_m"] = net.length_m;
     m["sample_width_m"] = net.width_m;
   }
-  // A moving scene reports its current V_p (the step may keep the detected one).
-  const std::vector<double> pore_volume =
-      coupled_ ? coupled_->ReportedPoreVolumes() : net.domains.pore_volume;
+  const std::vector<double> pore_volume = PoreVolumes();
   double pore = 0.0;
   double apparent = 0.0;
   for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {

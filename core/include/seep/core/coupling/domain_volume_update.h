@@ -63,26 +63,32 @@ class DomainVolumeUpdater {
  private:
   Status Check(const ParticleView& particles, const DomainNetwork& network,
                std::size_t volumes) const;
-  // The loop formula (islands included, rattlers not); V_p only when kPore.
+  // The sector sums at the Bind angles, per domain loop and per outer walk, for given radii.
+  struct SectorSums {
+    std::span<const double> loop, outer;
+    bool bind_radii = true;  // the radii are those of Bind (the sums are Bind's own)
+  };
+
+  // The loop formula (islands included, rattlers not); V_p (and `sectors`) only when kPore.
   template <bool kPore>
   void ComputeGeometric(const ParticleView& particles, const DomainNetwork& network,
-                        std::span<double> apparent_volume, std::span<double> pore_volume) const;
+                        const SectorSums& sectors, std::span<double> apparent_volume,
+                        std::span<double> pore_volume) const;
 
   Status CheckBound(const DomainNetwork& network) const;
   // The distinct contacts of the loops ("edges"), each loop entry's edge and wedge angle.
   Status BindEdges(const ParticleView& particles, const DomainNetwork& network);
-  // The sector sums at the Bind angles for the current radii (those of Bind: a copy).
-  void PrepareSectors(const ParticleView& particles, const DomainNetwork& network) const;
+  // Bind's sums while the radii are Bind's (a DEM's are), else sums for these radii.
+  SectorSums Sectors(const ParticleView& particles, const DomainNetwork& network) const;
   // Per edge and direction: half its lens minus its turn's share of the sector sum.
-  void ComputeEdgeTerms(const ParticleView& particles) const;
+  void ComputeEdgeTerms(const ParticleView& particles, bool bind_radii) const;
   template <bool kBindRadii>
   void ComputeEdgeTermsWith(const ParticleView& particles) const;
 
   std::vector<double> rattler_correction_;
   // Particle count at Bind, whose ids were checked then (Compute checks only the count).
   std::size_t bound_particles_ = 0;
-  // Edges: particles (lo < hi) and the vector lo -> hi at Bind; contact id -> edge.
-  std::vector<std::int32_t> edge_of_contact_;
+  // Edges: particles (lo < hi) and the vector lo -> hi at Bind.
   std::vector<std::int32_t> edge_lo_, edge_hi_;
   std::vector<double> edge_x0_, edge_y0_;
   // Per entry of the domain loops and of the outer walks: 2 x (edge to the next entry) + 1 if it
@@ -92,11 +98,11 @@ class DomainVolumeUpdater {
   // Radii and sector sums per face at Bind.
   std::vector<double> bind_radius_, bind_loop_sector_, bind_outer_sector_;
   // Scratch of Compute (so Compute allocates nothing; one updater per thread).
-  mutable std::vector<double> edge_term_, loop_sector_, outer_sector_;
+  mutable std::vector<double> edge_term_;
+  mutable std::vector<double> loop_sector_, outer_sector_;  // Sectors() for other radii
   mutable std::vector<double> edge_slow_;  // per edge: 1 if it needs atan2 or LensArea
   mutable std::vector<double> edge_dx_, edge_dy_, edge_rlo_, edge_rhi_;  // gathered per edge
   std::vector<double> edge_inv_r_lo_, edge_inv_r_hi_;  // 1/R at Bind (the lens series needs h/R)
-  mutable bool same_radii_ = true;                     // the radii are those of Bind
 };
 
 // change[d] = after[d] - before[d] (all three of equal size; InvalidArgument otherwise).

@@ -26,13 +26,13 @@ struct ApertureLaw {
 Status ValidateApertureLaw(const ApertureLaw& law);
 
 // Pure function; the law must be valid. A negative gap (overlap) with F <= 0 counts as g = 0.
+// Both branches are evaluated and one selected, so that a loop over pipes vectorises.
 inline double Aperture(const ApertureLaw& law, double normal_force, double gap) {
-  double a;
-  if (normal_force > 0.0) {
-    a = law.residual_aperture * law.reference_force / (normal_force + law.reference_force);
-  } else {
-    a = law.residual_aperture + law.gap_multiplier * (gap > 0.0 ? gap : 0.0);
-  }
+  const double compressive = normal_force > 0.0 ? normal_force : 0.0;
+  const double by_force =
+      law.residual_aperture * law.reference_force / (compressive + law.reference_force);
+  const double by_gap = law.residual_aperture + law.gap_multiplier * (gap > 0.0 ? gap : 0.0);
+  const double a = normal_force > 0.0 ? by_force : by_gap;
   return a < law.max_aperture ? a : law.max_aperture;
 }
 

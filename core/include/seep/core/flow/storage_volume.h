@@ -25,6 +25,9 @@ inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& st
 Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
                                                   const StorageModel& storage);
 
+// The error for a free or source domain whose V_s is not > 0 (names the volume field and domain).
+Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain, double volume);
+
 // Storage capacity V_s/K_f (m^2/Pa) of every domain, 0 for fixed-pressure domains: the
 // coefficient of dP/dt in every pressure update. Same checks as ComputeStorageVolumes.
 Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,

@@ -2,7 +2,9 @@
 // volumes are computed from disk sectors.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 
 namespace seep::core {
@@ -41,5 +43,27 @@ inline double MinorSegmentUnitSmall(double t) {
 // 0 when they do not overlap, pi*min(r1,r2)^2 when one contains the other. Same unit^2 as the
 // inputs. The line of centres splits the lens into two halves of equal area.
 double LensArea(double r1, double r2, double distance);
+
+// The lens of two disks of radii r1, r2 (inv_r1 = 1/r1, inv_r2 = 1/r2) whose centres are d apart,
+// by LensArea's formulas, without a branch, for what a DEM contact loop meets: a shallow overlap
+// (chord half-length below R/16 on both disks, both segments minor) or no overlap at all (the
+// Heron product clamps to 0, so h = 0 and so is the area). Sets *area and returns whether the
+// pair is one of those; otherwise *area is meaningless and LensArea gives the answer.
+inline bool ShallowLensArea(double r1, double r2, double inv_r1, double inv_r2, double d,
+                            double* area) {
+  const double sum = r1 + r2;
+  const double diff = r1 - r2;
+  const double inv_2d = 0.5 / d;
+  // Distances from each centre to the common chord, and the chord's half-length (Heron form,
+  // accurate when the overlap r1 + r2 - d is tiny).
+  const double a1 = (d * d + r1 * r1 - r2 * r2) * inv_2d;
+  const double a2 = d - a1;
+  const double h =
+      std::sqrt(std::max(0.0, (sum + d) * (sum - d) * (d + diff) * (d - diff))) * inv_2d;
+  const double t1 = h * inv_r1;
+  const double t2 = h * inv_r2;
+  *area = r1 * r1 * MinorSegmentUnitSmall(t1) + r2 * r2 * MinorSegmentUnitSmall(t2);
+  return (d > std::abs(diff)) & (a1 >= 0.0) & (a2 >= 0.0) & (t1 < 0.0625) & (t2 < 0.0625);
+}
 
 }  // namespace seep::core

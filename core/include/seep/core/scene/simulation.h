@@ -95,6 +95,9 @@ class Simulation {
   const SceneNetwork& network() const { return coupled_ ? coupled_->state().net : net_; }
   // The particle centres and radii now (moving scenes: the DEM's; else the packing's).
   ParticleView particles() const;
+  // V_p of every flow node of network() at the particles now, as reports and exports show it (a
+  // moving scene's step may keep the detected V_p: CoupledStepper::ReportedPoreVolumes).
+  std::vector<double> PoreVolumes() const;
   // The coupled step loop of a scene whose particles move; null for flow on a frozen packing.
   const CoupledStepper* coupled() const { return coupled_.get(); }
   // The samples so far; the last row is the newest (live progress shows it).
