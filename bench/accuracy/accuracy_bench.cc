@@ -37,7 +37,7 @@
 #include "darcy_problem.h"
 #include "diffusion_problem.h"
 #include "pareto.h"
-#include "seep/core/scene/analytic_solutions.h"
+#include "seep/core/reference/analytic_solutions.h"
 #include "svg_chart.h"
 #include "terzaghi_problem.h"
 #include "thiem_problem.h"

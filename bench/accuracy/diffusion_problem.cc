@@ -10,8 +10,8 @@
 #include <span>
 
 #include "problem_constants.h"
-#include "seep/core/scene/analytic_solutions.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/reference/analytic_solutions.h"
+#include "seep/core/network/scene_network.h"
 #include "timed_scene.h"
 
 namespace seep::bench {

@@ -9,8 +9,8 @@
 #include <span>
 
 #include "problem_constants.h"
-#include "seep/core/coupling/terzaghi.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/reference/terzaghi.h"
+#include "seep/core/network/scene_network.h"
 #include "timed_scene.h"
 
 namespace seep::bench {

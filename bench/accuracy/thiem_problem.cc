@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "problem_constants.h"
-#include "seep/core/scene/analytic_solutions.h"
-#include "seep/core/scene/radial_profile.h"
+#include "seep/core/reference/analytic_solutions.h"
+#include "seep/core/reference/radial_profile.h"
 #include "timed_scene.h"
 
 namespace seep::bench {

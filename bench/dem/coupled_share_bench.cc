@@ -25,7 +25,7 @@
 #include <string_view>
 
 #include "seep/core/geometry/packing_file.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 #include "seep/v1/scene.pb.h"
 
 namespace seep::bench {

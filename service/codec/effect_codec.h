@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "seep/core/effects/effect_spec.h"
+#include "seep/core/spec/effect_spec.h"
 #include "seep/core/status.h"
 #include "seep/v1/scene.pb.h"
 

@@ -1,7 +1,7 @@
 // core::SceneFields -> seep.v1.JobFields, the packed arrays GetJobFields returns.
 #pragma once
 
-#include "seep/core/scene/scene_fields.h"
+#include "seep/core/run/scene_fields.h"
 #include "seep/v1/job_service.pb.h"
 
 namespace seep::service {

@@ -2,7 +2,7 @@
 // field; the shapes are checked by core when the snapshot is restored.
 #pragma once
 
-#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/run/simulation_snapshot.h"
 #include "seep/v1/checkpoint.pb.h"
 
 namespace seep::service {

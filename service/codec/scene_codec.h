@@ -3,7 +3,7 @@
 // checked by core::ValidateScene. Every error names the field by its path in the scene.
 #pragma once
 
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 #include "seep/core/status.h"
 #include "seep/v1/scene.pb.h"
 

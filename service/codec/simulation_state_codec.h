@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/run/simulation_snapshot.h"
 #include "seep/core/status.h"
 #include "seep/v1/checkpoint.pb.h"
 

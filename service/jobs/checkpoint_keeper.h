@@ -17,7 +17,7 @@
 #include <optional>
 #include <string>
 
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 #include "seep/core/status.h"
 #include "store/job_store.h"
 

@@ -9,7 +9,7 @@
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
 #include "jobs/wall_clock.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 #include "seep/core/threads.h"
 #include "seep/v1/scene.pb.h"
 

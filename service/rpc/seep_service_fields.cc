@@ -15,8 +15,8 @@
 #include "codec/simulation_state_codec.h"
 #include "rpc/seep_service.h"
 #include "rpc/status_mapping.h"
-#include "seep/core/scene/scene_fields.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/scene_fields.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::service {
 namespace {

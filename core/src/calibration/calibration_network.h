@@ -20,7 +20,7 @@
 #include "seep/core/calibration/calibration_spec.h"
 #include "seep/core/flow/aperture_law.h"
 #include "seep/core/flow/steady_state_solver.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 #include "seep/core/status.h"
 
 namespace seep::core::calibration_internal {

@@ -8,7 +8,7 @@
 
 #include "effect_factories.h"
 #include "seep/core/log.h"
-#include "seep/core/scene/pressure_remap.h"
+#include "seep/core/network/pressure_remap.h"
 
 namespace seep::core::effects_internal {
 namespace {

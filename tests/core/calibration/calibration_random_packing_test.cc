@@ -12,7 +12,7 @@
 
 #include "calibration_test_scenes.h"
 #include "seep/core/calibration/calibration.h"
-#include "seep/core/scene/run_scene.h"
+#include "seep/core/run/run_scene.h"
 
 namespace seep::core {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "seep/core/calibration/calibration_spec.h"
 #include "seep/core/geometry/random_packing.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 
 namespace seep::core::calibration_test {
 

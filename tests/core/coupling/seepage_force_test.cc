@@ -10,7 +10,7 @@
 
 #include "seep/core/coupling/pressure_forces.h"
 #include "seep/core/flow/steady_state_solver.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 
 namespace seep::core {
 namespace {

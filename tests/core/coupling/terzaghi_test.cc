@@ -1,6 +1,6 @@
 // Terzaghi consolidation reference (physics.md §3.4): the table of U(Tv) and u/u0, and the
 // coupled parameters c_v and u0 with a compressible fluid.
-#include "seep/core/coupling/terzaghi.h"
+#include "seep/core/reference/terzaghi.h"
 
 #include <gtest/gtest.h>
 

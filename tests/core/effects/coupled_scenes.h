@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::core::effects_test {
 

@@ -12,8 +12,8 @@
 #include <limits>
 #include <vector>
 
-#include "seep/core/coupling/terzaghi.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/reference/terzaghi.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::core {
 namespace {

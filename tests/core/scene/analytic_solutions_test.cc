@@ -1,5 +1,5 @@
 // The closed-form references of analytic_solutions.h against the tables of physics.md §3.2–3.3.
-#include "seep/core/scene/analytic_solutions.h"
+#include "seep/core/reference/analytic_solutions.h"
 
 #include <gtest/gtest.h>
 

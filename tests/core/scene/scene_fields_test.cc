@@ -1,7 +1,7 @@
 // CollectSceneFields on lattice permeameters: the arrays match the network, the analytic linear
 // profile matches a steady solve, pipe flows balance the boundary rates, and the transient series
 // follows an implicit run.
-#include "seep/core/scene/scene_fields.h"
+#include "seep/core/run/scene_fields.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <utility>
 
 #include "scene_test_util.h"
-#include "seep/core/scene/scene_network.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/network/scene_network.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::core {
 namespace {

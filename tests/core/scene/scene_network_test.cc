@@ -1,12 +1,12 @@
 // BuildSceneNetwork and ValidateScene for the radial boundary: errors name the field.
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "scene_test_util.h"
-#include "seep/core/scene/run_scene.h"
+#include "seep/core/run/run_scene.h"
 
 namespace seep::core {
 namespace {

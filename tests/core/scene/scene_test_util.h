@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "seep/core/scene/run_scene.h"
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/run/run_scene.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core::scene_test {
 

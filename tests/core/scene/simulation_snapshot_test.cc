@@ -7,7 +7,7 @@
 #include <stop_token>
 
 #include "scene_test_util.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::core {
 namespace {

@@ -11,8 +11,8 @@
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/geometry/packing.h"
-#include "seep/core/scene/pressure_remap.h"
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/pressure_remap.h"
+#include "seep/core/network/scene_network.h"
 
 namespace seep::core {
 namespace {

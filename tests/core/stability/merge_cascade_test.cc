@@ -14,7 +14,7 @@
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/geometry/packing.h"
-#include "seep/core/scene/pressure_remap.h"
+#include "seep/core/network/pressure_remap.h"
 #include "stability_invariants.h"
 
 namespace seep::core {

@@ -11,7 +11,7 @@
 #include "seep/core/flow/explicit_solver.h"
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/flow/steady_state_solver.h"
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 #include "stability_invariants.h"
 
 namespace seep::core {

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 

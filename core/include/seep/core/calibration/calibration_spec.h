@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {

@@ -26,9 +26,9 @@
 #include "seep/core/dem/dem_particles.h"
 #include "seep/core/dem/dem_wall.h"
 #include "seep/core/geometry/packing.h"
-#include "seep/core/scene/scene_network.h"
-#include "seep/core/scene/scene_spec.h"
-#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/network/scene_network.h"
+#include "seep/core/spec/scene_spec.h"
+#include "seep/core/run/simulation_snapshot.h"
 #include "seep/core/status.h"
 
 namespace seep::core {

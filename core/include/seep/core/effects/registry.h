@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "seep/core/effects/effect.h"
-#include "seep/core/effects/effect_spec.h"
+#include "seep/core/spec/effect_spec.h"
 
 namespace seep::core {
 

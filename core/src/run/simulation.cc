@@ -1,4 +1,4 @@
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "seep/core/scene/pressure_remap.h"
+#include "seep/core/network/pressure_remap.h"
 
 #include <fmt/format.h>
 

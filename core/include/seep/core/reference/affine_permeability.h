@@ -13,7 +13,7 @@
 #pragma once
 
 #include "seep/core/geometry/domain_detection.h"
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 

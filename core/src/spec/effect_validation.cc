@@ -6,7 +6,7 @@
 
 #include "seep/core/dem/contact_law.h"
 #include "seep/core/dem/parallel_bond.h"
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 namespace {

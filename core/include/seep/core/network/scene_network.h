@@ -40,7 +40,7 @@
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/geometry/packing.h"
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 

@@ -1,4 +1,4 @@
-#include "seep/core/scene/radial_profile.h"
+#include "seep/core/reference/radial_profile.h"
 
 #include <fmt/format.h>
 

@@ -1,13 +1,13 @@
 // CollectSceneFields: a Simulation's state as plain arrays, with the analytic pressure where the
 // scene has one (see scene_fields.h).
-#include "seep/core/scene/scene_fields.h"
+#include "seep/core/run/scene_fields.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
 
-#include "seep/core/scene/analytic_solutions.h"
+#include "seep/core/reference/analytic_solutions.h"
 
 namespace seep::core {
 namespace {

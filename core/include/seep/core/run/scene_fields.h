@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "seep/core/scene/simulation.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::core {
 

@@ -1,5 +1,5 @@
 // Closed-form reference solutions (see analytic_solutions.h).
-#include "seep/core/scene/analytic_solutions.h"
+#include "seep/core/reference/analytic_solutions.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-#include "seep/core/effects/coupled_stepper.h"
+#include "seep/core/run/coupled_stepper.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "effect_factories.h"
+#include "../effects/effect_factories.h"
 #include "seep/core/dem/dem_integrator.h"
 #include "seep/core/effects/registry.h"
 

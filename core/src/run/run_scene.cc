@@ -1,4 +1,4 @@
-#include "seep/core/scene/run_scene.h"
+#include "seep/core/run/run_scene.h"
 
 namespace seep::core {
 

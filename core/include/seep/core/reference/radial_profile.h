@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 #include "seep/core/status.h"
 
 namespace seep::core {

@@ -22,12 +22,12 @@
 #include <vector>
 
 #include "seep/core/coupling/particle_view.h"
-#include "seep/core/effects/coupled_stepper.h"
+#include "seep/core/run/coupled_stepper.h"
 #include "seep/core/flow/explicit_solver.h"
 #include "seep/core/flow/implicit_solver.h"
-#include "seep/core/scene/scene_network.h"
-#include "seep/core/scene/scene_spec.h"
-#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/network/scene_network.h"
+#include "seep/core/spec/scene_spec.h"
+#include "seep/core/run/simulation_snapshot.h"
 #include "seep/core/status.h"
 
 namespace seep::core {

@@ -6,7 +6,7 @@
 //   tau))] U    = 2 sqrt(tau) [1/sqrt(pi) + 2 sum_{n>=1} (-1)^n ierfc(n / sqrt tau)],
 //          ierfc(x) = exp(-x^2)/sqrt(pi) - x erfc(x),
 // the second being the depth average of 1 - u/u0 (the integral of erfc is ierfc).
-#include "seep/core/coupling/terzaghi.h"
+#include "seep/core/reference/terzaghi.h"
 
 #include <algorithm>
 #include <cmath>

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "seep/core/effects/effect.h"
-#include "seep/core/scene/simulation_snapshot.h"
+#include "seep/core/run/simulation_snapshot.h"
 
 namespace seep::core {
 

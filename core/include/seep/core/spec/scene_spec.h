@@ -11,7 +11,7 @@
 #include <variant>
 #include <vector>
 
-#include "seep/core/effects/effect_spec.h"
+#include "seep/core/spec/effect_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {

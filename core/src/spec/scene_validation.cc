@@ -2,7 +2,7 @@
 #include <string>
 
 #include "fmt/format.h"
-#include "seep/core/scene/scene_spec.h"
+#include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 namespace {

@@ -1,4 +1,4 @@
-#include "seep/core/scene/affine_permeability.h"
+#include "seep/core/reference/affine_permeability.h"
 
 namespace seep::core {
 

@@ -1,4 +1,4 @@
-#include "seep/core/scene/scene_network.h"
+#include "seep/core/network/scene_network.h"
 
 #include <fmt/format.h>
 
