@@ -35,7 +35,7 @@ inline constexpr const char* kCrankNicolsonLabel = "cn";
 // One solver choice of a transient grid: scheme, storage volume and the step factors to sweep.
 struct SolverChoice {
   core::SolverKind kind;
-  core::StorageVolumeKind storage;
+  core::StorageVolume storage;
   const std::vector<double>* factors;
 };
 
@@ -45,11 +45,11 @@ inline std::array<SolverChoice, 4> TransientChoices(const std::vector<double>& e
                                                     const std::vector<double>& implicit_factors,
                                                     const std::vector<double>& cn_factors) {
   using core::SolverKind;
-  using core::StorageVolumeKind;
-  return {{{SolverKind::kExplicit, StorageVolumeKind::kApparent, &explicit_factors},
-           {SolverKind::kExplicit, StorageVolumeKind::kPore, &explicit_factors},
-           {SolverKind::kImplicit, StorageVolumeKind::kPore, &implicit_factors},
-           {SolverKind::kCrankNicolson, StorageVolumeKind::kPore, &cn_factors}}};
+  using core::StorageVolume;
+  return {{{SolverKind::kExplicit, StorageVolume::kApparent, &explicit_factors},
+           {SolverKind::kExplicit, StorageVolume::kPore, &explicit_factors},
+           {SolverKind::kImplicit, StorageVolume::kPore, &implicit_factors},
+           {SolverKind::kCrankNicolson, StorageVolume::kPore, &cn_factors}}};
 }
 
 // Short labels for the CSV and the table.
@@ -69,7 +69,7 @@ inline std::string SolverLabel(core::SolverKind kind) {
 
 inline std::string StorageLabel(const core::SolverSpec& solver) {
   if (solver.kind == core::SolverKind::kSteady) return "-";
-  return solver.storage == core::StorageVolumeKind::kPore ? "pore" : "apparent";
+  return solver.storage == core::StorageVolume::kPore ? "pore" : "apparent";
 }
 
 }  // namespace seep::bench

@@ -16,7 +16,7 @@ namespace {
 
 using core::SceneSpec;
 using core::SolverKind;
-using core::StorageVolumeKind;
+using core::StorageVolume;
 
 // Square lattice: pore / apparent volume of every domain, (4 - pi) / 4 (physics.md §1.2).
 constexpr double kSquarePorosity = 0.21460183660255172;
@@ -95,16 +95,16 @@ void RunDarcyGrid(const DarcyGrid& grid, std::vector<AccuracyRun>& rows) {
       const double length = side * 2.0 * kRadius;
       struct Choice {
         SolverKind kind;
-        StorageVolumeKind storage;
+        StorageVolume storage;
         double factor;
       };
-      std::vector<Choice> choices = {{SolverKind::kExplicit, StorageVolumeKind::kApparent, 0.9},
-                                     {SolverKind::kExplicit, StorageVolumeKind::kPore, 0.9}};
+      std::vector<Choice> choices = {{SolverKind::kExplicit, StorageVolume::kApparent, 0.9},
+                                     {SolverKind::kExplicit, StorageVolume::kPore, 0.9}};
       for (const double f : grid.implicit_dt_factors) {
-        choices.push_back({SolverKind::kImplicit, StorageVolumeKind::kPore, f});
+        choices.push_back({SolverKind::kImplicit, StorageVolume::kPore, f});
       }
       for (const Choice& choice : choices) {
-        const double n_s = choice.storage == StorageVolumeKind::kPore ? kSquarePorosity : 1.0;
+        const double n_s = choice.storage == StorageVolume::kPore ? kSquarePorosity : 1.0;
         const double c = k * kBulkModulus / (kViscosity * n_s);
         SceneSpec scene = LatticeScene(side);
         scene.solver.kind = choice.kind;

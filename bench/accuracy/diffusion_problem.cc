@@ -10,8 +10,8 @@
 #include <span>
 
 #include "problem_constants.h"
-#include "seep/core/reference/analytic_solutions.h"
 #include "seep/core/network/scene_network.h"
+#include "seep/core/reference/analytic_solutions.h"
 #include "timed_scene.h"
 
 namespace seep::bench {
@@ -19,7 +19,7 @@ namespace {
 
 using core::SceneSpec;
 using core::SolverKind;
-using core::StorageVolumeKind;
+using core::StorageVolume;
 
 constexpr double kInletPressure = 1e5;
 // 4 domains across: interior domains have 4 pipes as in a 2D packing, so dt_crit is that of a
@@ -159,7 +159,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
       for (const double kf : grid.bulk_moduli_pa) {
         if (kf != grid.bulk_moduli_pa.front() && cells > grid.kf_scaling_max_cells) continue;
         for (const SolverChoice& choice : choices) {
-          const double n_s = choice.storage == StorageVolumeKind::kPore ? geometry->porosity : 1.0;
+          const double n_s = choice.storage == StorageVolume::kPore ? geometry->porosity : 1.0;
           const double c = k * kf / (kViscosity * n_s);
           for (const double factor : *choice.factors) {
             SceneSpec scene = StripScene(cells, kf);
@@ -169,7 +169,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
             scene.solver.end_time_s = T * geometry->length_m * geometry->length_m / c;
             const std::string label = SolverLabel(choice.kind);
             const bool paper = choice.kind == SolverKind::kExplicit &&
-                               choice.storage == StorageVolumeKind::kApparent && factor == 0.9 &&
+                               choice.storage == StorageVolume::kApparent && factor == 0.9 &&
                                kf == grid.bulk_moduli_pa.front();
             if (!paper && ExpectedCost(scene, geometry->domains) > grid.max_cost) {
               std::fprintf(stderr, "diffusion: skipped %s %s %g dt_crit at %d cells (cost cap)\n",

@@ -9,8 +9,8 @@
 #include <span>
 
 #include "problem_constants.h"
-#include "seep/core/reference/terzaghi.h"
 #include "seep/core/network/scene_network.h"
+#include "seep/core/reference/terzaghi.h"
 #include "timed_scene.h"
 
 namespace seep::bench {
@@ -18,7 +18,7 @@ namespace {
 
 using core::SceneSpec;
 using core::SolverKind;
-using core::StorageVolumeKind;
+using core::StorageVolume;
 
 constexpr double kInitialExcessPressure = 1e5;  // u0, Pa
 // As the diffusion strip: 4 domains across, so interior domains have 4 pipes (a real lattice's
@@ -105,11 +105,11 @@ struct ColumnError {
   double u_column = 0.0;
 };
 
-ColumnError ErrorOf(const core::FlowNetwork& flow, StorageVolumeKind storage,
-                    const ColumnGeometry& g, double Tv, double stored_length_m) {
+ColumnError ErrorOf(const core::FlowNetwork& flow, StorageVolume storage, const ColumnGeometry& g,
+                    double Tv, double stored_length_m) {
   const std::span<const double> p = flow.pressure();
   const std::span<const double> volume =
-      storage == StorageVolumeKind::kPore ? flow.pore_volume() : flow.apparent_volume();
+      storage == StorageVolume::kPore ? flow.pore_volume() : flow.apparent_volume();
   double diff2 = 0.0;
   double exact2 = 0.0;
   double stored = 0.0;
@@ -158,7 +158,7 @@ void RunTerzaghiGrid(const TerzaghiGrid& grid, std::vector<AccuracyRun>& rows) {
     }
     const double H = geometry->drainage_length_m;
     for (const SolverChoice& choice : choices) {
-      const double n_s = choice.storage == StorageVolumeKind::kPore ? geometry->porosity : 1.0;
+      const double n_s = choice.storage == StorageVolume::kPore ? geometry->porosity : 1.0;
       // m_v = 0: c_v = k / (mu n_s / K_f).
       const double c_v = k * kBulkModulus / (kViscosity * n_s);
       for (const double factor : *choice.factors) {

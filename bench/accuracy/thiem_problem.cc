@@ -18,7 +18,7 @@ namespace {
 
 using core::SceneSpec;
 using core::SolverKind;
-using core::StorageVolumeKind;
+using core::StorageVolume;
 
 constexpr double kWellPressure = 1e5;
 constexpr double kWellRadiusInR = 5.0;
@@ -133,7 +133,7 @@ void RunThiemGrid(const ThiemGrid& grid, std::vector<AccuracyRun>& rows) {
       for (const double f : grid.implicit_dt_factors) {
         SceneSpec scene = RadialScene(outer);
         scene.solver.kind = SolverKind::kImplicit;
-        scene.solver.storage = StorageVolumeKind::kPore;
+        scene.solver.storage = StorageVolume::kPore;
         scene.solver.dt_factor = f;
         scene.solver.end_time_s = grid.end_T * r_e * r_e / c;
         RunOne(scene, outer, rows);

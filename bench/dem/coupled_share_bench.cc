@@ -119,17 +119,17 @@ Shares Measure(const Packing& bed, std::uint64_t steps, std::uint64_t flow_every
                 coupled ? "coupled" : "mechanics", threads, bed.size(), sim->dt_s(),
                 static_cast<unsigned long long>(steps), out.seconds[coupled], rate);
     if (coupled == 1) {
-      const CoupledState& state = sim->coupled()->state();
+      const LiveState& state = sim->stepper().state();
       std::printf(" (%zu domains, %zu pipes, flow every %llu step(s), %lld sub-step(s) per update)",
                   state.net.domains.num_domains(), state.net.flow.num_pipes(),
-                  static_cast<unsigned long long>(sim->coupled()->flow_every()),
-                  static_cast<long long>(state.flow.max_sub_steps));
+                  static_cast<unsigned long long>(sim->stepper().flow_every()),
+                  static_cast<long long>(sim->stepper().Measure().at("flow_sub_steps_max")));
     }
     std::printf("\n");
     // Per effect, over the whole run (warm-up included): the run's own split, which does not
     // depend on how loaded the machine was between the two runs.
     double total = 0.0, fluid = 0.0, g6 = 0.0;
-    const auto split = sim->coupled()->EffectSeconds();
+    const auto split = sim->stepper().EffectSeconds();
     for (const auto& [name, t] : split) {
       total += t;
       if (IsFluidEffect(name)) fluid += t;

@@ -91,6 +91,25 @@ core::DemContactState ContactsFromProto(const v1::DemContactState& p) {
   return c;
 }
 
+// Each effect's own part (core/effects/effect_state.h), one block per effect.
+void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
+  out->set_bonds_broken(e.contacts.bonds_broken);
+  out->set_max_flow_sub_steps(e.flow.max_sub_steps);
+  out->set_breakthrough_time_s(e.redetection.breakthrough_time_s);
+  out->set_peak_well_pressure_pa(e.injection.peak_well_pressure_pa);
+  out->set_peak_well_time_s(e.injection.peak_well_time_s);
+}
+
+core::EffectStates EffectStatesFromProto(const v1::MechanicsState& state) {
+  core::EffectStates e;
+  e.contacts.bonds_broken = state.bonds_broken();
+  e.flow.max_sub_steps = state.max_flow_sub_steps();
+  e.redetection.breakthrough_time_s = state.breakthrough_time_s();
+  e.injection.peak_well_pressure_pa = state.peak_well_pressure_pa();
+  e.injection.peak_well_time_s = state.peak_well_time_s();
+  return e;
+}
+
 }  // namespace
 
 void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::MechanicsState* out) {
@@ -114,13 +133,8 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
                                          snapshot.apparent_volume.end());
   out->mutable_pore_volume()->Assign(snapshot.pore_volume.begin(), snapshot.pore_volume.end());
   out->mutable_aperture()->Assign(snapshot.aperture.begin(), snapshot.aperture.end());
-  out->set_bonds_broken(snapshot.bonds_broken);
   out->set_topology_version(snapshot.topology_version);
-  out->set_peak_well_pressure_pa(snapshot.peak_well_pressure_pa);
-  out->set_peak_well_time_s(snapshot.peak_well_time_s);
-  out->set_worst_flow_mass_balance_error(snapshot.worst_flow_mass_balance_error);
-  out->set_max_flow_sub_steps(snapshot.max_flow_sub_steps);
-  out->set_breakthrough_time_s(snapshot.breakthrough_time_s);
+  EffectStatesToProto(snapshot.effects, out);
   ContactsToProto(snapshot.contacts, out->mutable_contacts());
 }
 
@@ -143,13 +157,8 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
   snap.apparent_volume.assign(state.apparent_volume().begin(), state.apparent_volume().end());
   snap.pore_volume.assign(state.pore_volume().begin(), state.pore_volume().end());
   snap.aperture.assign(state.aperture().begin(), state.aperture().end());
-  snap.bonds_broken = state.bonds_broken();
   snap.topology_version = state.topology_version();
-  snap.peak_well_pressure_pa = state.peak_well_pressure_pa();
-  snap.peak_well_time_s = state.peak_well_time_s();
-  snap.worst_flow_mass_balance_error = state.worst_flow_mass_balance_error();
-  snap.max_flow_sub_steps = state.max_flow_sub_steps();
-  snap.breakthrough_time_s = state.breakthrough_time_s();
+  snap.effects = EffectStatesFromProto(state);
   snap.contacts = ContactsFromProto(state.contacts());
   return snap;
 }

@@ -93,10 +93,10 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   }
   switch (solver.storage()) {
     case v1::STORAGE_VOLUME_APPARENT:
-      spec.storage = core::StorageVolumeKind::kApparent;
+      spec.storage = core::StorageVolume::kApparent;
       break;
     case v1::STORAGE_VOLUME_PORE:
-      spec.storage = core::StorageVolumeKind::kPore;
+      spec.storage = core::StorageVolume::kPore;
       break;
     default:
       // The steady state does not depend on storage, so only transient solvers need it.

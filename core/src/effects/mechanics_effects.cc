@@ -9,17 +9,18 @@
 #include "effect_factories.h"
 #include "seep/core/dem/dem_integrator.h"
 #include "seep/core/dem/servo_wall.h"
+#include "seep/core/effects/effect_set.h"
 
 namespace seep::core::effects_internal {
 namespace {
 
 class ContactsEffect final : public Effect {
  public:
-  explicit ContactsEffect(const ContactsEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "contacts"; }
+  explicit ContactsEffect(const ContactsEffectSpec& spec)
+      : Effect(kEffectKind<ContactsEffectSpec>), spec_(spec) {}
   std::uint32_t Hooks() const override { return kForceHook; }
 
-  Status Bind(CoupledState& s) override {
+  Status Bind(LiveState& s, const EffectSet&) override {
     const Packing& packing = s.net.packing;
     SEEP_ASSIGN_OR_RETURN(s.particles, MakeDemParticles(packing, spec_.density_kg_m3));
     double radius_sum = 0.0;
@@ -33,31 +34,49 @@ class ContactsEffect final : public Effect {
     settings.flow_gap = SceneContactGap(*s.scene, mean_radius);
     SEEP_ASSIGN_OR_RETURN(DemContactForces forces, DemContactForces::Create(settings));
     s.contacts.emplace(std::move(forces));
-    SEEP_ASSIGN_OR_RETURN(
-        const double stable,
-        EstimateStableTimeStep(s.particles, spec_.law.kn, spec_.law.kt, spec_.dt_safety));
-    s.dem_dt = stable;
     return Status::Ok();
   }
 
   // The first force of a step: sets (not adds) the contact and bond forces.
-  Status AddForces(CoupledState& s, const StepInfo& info) override {
+  Status AddForces(LiveState& s, const StepInfo& info) override {
     SEEP_RETURN_IF_ERROR(s.contacts->SetForces(&s.particles, s.walls, info.dt, &s.counters.dem));
-    s.bonds_broken += s.contacts->broken_bonds().size();
+    state_.bonds_broken += s.contacts->broken_bonds().size();
     return Status::Ok();
+  }
+
+  void SaveTo(EffectStates* out) const override { out->contacts = state_; }
+  void RestoreFrom(const EffectStates& in) override { state_ = in.contacts; }
+
+  void AddMetrics(const LiveState& s, Metrics* m) const override {
+    (*m)["bonds_broken"] = static_cast<double>(state_.bonds_broken);
+    (*m)["particle_count"] = static_cast<double>(s.particles.size());
+    double kinetic = 0.0;
+    const DemParticles& p = s.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      kinetic += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
+                 0.5 * p.inertia[i] * p.omega[i] * p.omega[i];
+    }
+    (*m)["kinetic_energy_j_per_m"] = kinetic;
+  }
+  void AddSeriesColumns(std::vector<std::string>* columns) const override {
+    columns->push_back("bonds_broken");
+  }
+  void AddSample(const LiveState&, std::vector<double>* row) const override {
+    row->push_back(static_cast<double>(state_.bonds_broken));
   }
 
  private:
   ContactsEffectSpec spec_;
+  ContactsEffectState state_;
 };
 
 class BondsEffect final : public Effect {
  public:
-  explicit BondsEffect(const BondsEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "bonds"; }
+  explicit BondsEffect(const BondsEffectSpec& spec)
+      : Effect(kEffectKind<BondsEffectSpec>), spec_(spec) {}
   std::uint32_t Hooks() const override { return 0; }  // evaluated inside the contact pass
 
-  Status Bind(CoupledState& s) override {
+  Status Bind(LiveState& s, const EffectSet&) override {
     SEEP_ASSIGN_OR_RETURN(const std::size_t bonds,
                           s.contacts->BondTouchingPairs(&s.particles, spec_.params,
                                                         spec_.tolerance_m, &s.counters.dem));
@@ -76,10 +95,10 @@ class BondsEffect final : public Effect {
 
 class GravityEffect final : public Effect {
  public:
-  explicit GravityEffect(const GravityEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "gravity"; }
+  explicit GravityEffect(const GravityEffectSpec& spec)
+      : Effect(kEffectKind<GravityEffectSpec>), spec_(spec) {}
   std::uint32_t Hooks() const override { return kForceHook; }
-  Status AddForces(CoupledState& s, const StepInfo&) override {
+  Status AddForces(LiveState& s, const StepInfo&) override {
     AddGravity(&s.particles, spec_.gx_m_s2, spec_.gy_m_s2, &s.counters.dem);
     return Status::Ok();
   }
@@ -90,10 +109,10 @@ class GravityEffect final : public Effect {
 
 class LocalDampingEffect final : public Effect {
  public:
-  explicit LocalDampingEffect(const LocalDampingEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "local_damping"; }
+  explicit LocalDampingEffect(const LocalDampingEffectSpec& spec)
+      : Effect(kEffectKind<LocalDampingEffectSpec>), spec_(spec) {}
   std::uint32_t Hooks() const override { return kPostForceHook; }
-  Status PostForce(CoupledState& s, const StepInfo&) override {
+  Status PostForce(LiveState& s, const StepInfo&) override {
     ApplyLocalDamping(&s.particles, spec_.alpha, &s.counters.dem);
     return Status::Ok();
   }
@@ -104,12 +123,12 @@ class LocalDampingEffect final : public Effect {
 
 class WallsEffect final : public Effect {
  public:
-  explicit WallsEffect(const WallsEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "walls"; }
+  explicit WallsEffect(const WallsEffectSpec& spec)
+      : Effect(kEffectKind<WallsEffectSpec>), spec_(spec) {}
   std::uint32_t Hooks() const override { return kPostForceHook; }
 
   // Each wall touches the outermost disk surface of its side of the packing's bounding box.
-  Status Bind(CoupledState& s) override {
+  Status Bind(LiveState& s, const EffectSet&) override {
     const DemParticles& p = s.particles;
     double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x;
     double hi_x = -lo_x, hi_y = -lo_x;
@@ -151,14 +170,14 @@ class WallsEffect final : public Effect {
       servo.max_speed = w.servo_max_speed_m_s;
       servo_.push_back(servo);
     }
-    s.wall_stress_pa.assign(s.walls.size(), 0.0);
+    wall_stress_pa_.assign(s.walls.size(), 0.0);
     return Status::Ok();
   }
 
-  Status PostForce(CoupledState& s, const StepInfo& info) override {
+  Status PostForce(LiveState& s, const StepInfo& info) override {
     const std::vector<DemWallLoad>& loads = s.contacts->wall_loads();
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
-      s.wall_stress_pa[w] = loads[w].normal_force / servo_[w].length;
+      wall_stress_pa_[w] = loads[w].normal_force / servo_[w].length;
       if (servo_[w].target_stress > 0.0) {
         ApplyServo(servo_[w], loads[w], info.dt, &s.walls[w], &s.counters.dem);
       }
@@ -166,9 +185,49 @@ class WallsEffect final : public Effect {
     return Status::Ok();
   }
 
+  // Per wall, the position along its normal and the measured normal stress at the last step.
+  void AddMetrics(const LiveState& s, Metrics* m) const override {
+    for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
+      const char* side = SideName(spec_.walls[w].side);
+      (*m)[fmt::format("{}_wall_position_m", side)] = Position(s, w);
+      (*m)[fmt::format("{}_wall_stress_pa", side)] = wall_stress_pa_[w];
+    }
+  }
+  void AddSeriesColumns(std::vector<std::string>* columns) const override {
+    for (const char* column : {"position_m", "stress_pa"}) {
+      for (const WallSpec& w : spec_.walls) {
+        columns->push_back(fmt::format("{}_wall_{}", SideName(w.side), column));
+      }
+    }
+  }
+  void AddSample(const LiveState& s, std::vector<double>* row) const override {
+    for (std::size_t w = 0; w < spec_.walls.size(); ++w) row->push_back(Position(s, w));
+    row->insert(row->end(), wall_stress_pa_.begin(), wall_stress_pa_.end());
+  }
+
  private:
+  static const char* SideName(WallSide side) {
+    switch (side) {
+      case WallSide::kLeft:
+        return "left";
+      case WallSide::kRight:
+        return "right";
+      case WallSide::kBottom:
+        return "bottom";
+      case WallSide::kTop:
+        return "top";
+    }
+    return "unknown";
+  }
+  double Position(const LiveState& s, std::size_t w) const {
+    const WallSide side = spec_.walls[w].side;
+    const bool vertical = side == WallSide::kLeft || side == WallSide::kRight;
+    return vertical ? s.walls[w].px : s.walls[w].py;
+  }
+
   WallsEffectSpec spec_;
   std::vector<ServoWallSettings> servo_;
+  std::vector<double> wall_stress_pa_;  // measured normal stress per wall at the last step
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "effect_factories.h"
+#include "seep/core/effects/effect_set.h"
 #include "seep/core/log.h"
 #include "seep/core/network/pressure_remap.h"
 
@@ -17,10 +18,15 @@ bool SamePairs(const ContactList& a, const ContactList& b) { return a.i == b.i &
 
 class RedetectionEffect final : public Effect {
  public:
-  std::string_view Name() const override { return "redetection"; }
+  RedetectionEffect() : Effect(kEffectKind<RedetectionEffectSpec>) {}
   std::uint32_t Hooks() const override { return kEndOfStepHook; }
 
-  Status EndOfStep(CoupledState& s, const StepInfo& info) override {
+  Status Bind(LiveState&, const EffectSet& effects) override {
+    injected_well_ = effects.injection != nullptr;
+    return Status::Ok();
+  }
+
+  Status EndOfStep(LiveState& s, const StepInfo& info) override {
     if (!info.flow_update) return Status::Ok();
     ++s.counters.topology_checks;
     const double max_gap = SceneContactGap(*s.scene, s.net.mean_radius_m);
@@ -45,9 +51,7 @@ class RedetectionEffect final : public Effect {
     ++s.counters.redetections;
 
     PressureRemapOptions options;
-    options.storage.volume = s.scene->solver.storage == StorageVolumeKind::kPore
-                                 ? StorageVolume::kPore
-                                 : StorageVolume::kApparent;
+    options.storage = SceneStorage(*s.scene);
     options.unmatched_pressure = s.scene->boundary.initial_pressure_pa;
     std::vector<double> remapped;
     SEEP_ASSIGN_OR_RETURN(
@@ -59,22 +63,22 @@ class RedetectionEffect final : public Effect {
     auto pressure = fresh.flow.mutable_pressure();
     for (std::size_t d = 0; d < remapped.size(); ++d) {
       const bool injected_well =
-          s.injection_rate_m2_s > 0.0 && static_cast<std::int32_t>(d) == fresh.well_domain;
+          injected_well_ && static_cast<std::int32_t>(d) == fresh.well_domain;
       if (roles[d] == DomainRole::kFree || injected_well) pressure[d] = remapped[d];
     }
     const double scale = std::max(std::abs(report.old_stored), std::abs(report.new_stored));
     const double error = report.unmatched_new == 0 && report.unmatched_old == 0 && scale > 0.0
                              ? std::abs(report.new_stored - report.old_stored) / scale
                              : 0.0;
-    s.flow.mass_balance_error = std::max(s.flow.mass_balance_error, error);
-    s.flow.worst_mass_balance_error = std::max(s.flow.worst_mass_balance_error, error);
+    s.books.step_error = std::max(s.books.step_error, error);
+    s.books.worst_error = std::max(s.books.worst_error, error);
     Logger()->debug(
         "redetection at step {}: {} -> {} domains, {} clusters, {} unmatched new, {} unmatched "
         "old, stored fluid {:.17g} -> {:.17g} (relative change {:.3g})",
         info.step, s.net.domains.num_domains(), fresh.domains.num_domains(), report.clusters,
         report.unmatched_new, report.unmatched_old, report.old_stored, report.new_stored, error);
-    if (s.scene->boundary.radial && fresh.well_domain < 0 && s.breakthrough_time_s < 0.0) {
-      s.breakthrough_time_s = info.time_s;
+    if (s.scene->boundary.radial && fresh.well_domain < 0 && state_.breakthrough_time_s < 0.0) {
+      state_.breakthrough_time_s = info.time_s;
       Logger()->info(
           "step {} (t = {} s): the fracture reached the outer boundary; the well is open to the "
           "outside from now on",
@@ -87,18 +91,27 @@ class RedetectionEffect final : public Effect {
     return Status::Ok();
   }
 
+  void SaveTo(EffectStates* out) const override { out->redetection = state_; }
+  void RestoreFrom(const EffectStates& in) override { state_ = in.redetection; }
+  void AddMetrics(const LiveState&, Metrics* m) const override {
+    if (state_.breakthrough_time_s >= 0.0) (*m)["breakthrough_time_s"] = state_.breakthrough_time_s;
+  }
+
  private:
   ContactList candidate_;
+  bool injected_well_ = false;  // the well is a source (injection): it takes the remapped pressure
+  RedetectionEffectState state_;
 };
 
 class InjectionEffect final : public Effect {
  public:
-  explicit InjectionEffect(const InjectionEffectSpec& spec) : spec_(spec) {}
-  std::string_view Name() const override { return "injection"; }
-  std::uint32_t Hooks() const override { return 0; }  // acts on the network, not per step
+  explicit InjectionEffect(const InjectionEffectSpec& spec)
+      : Effect(kEffectKind<InjectionEffectSpec>), spec_(spec) {}
+  // The source acts on the network (set at bind and re-bind); at the end of a flow update the
+  // effect tracks the well pressure's peak, the breakdown pressure.
+  std::uint32_t Hooks() const override { return kEndOfStepHook; }
 
-  Status Bind(CoupledState& s) override {
-    s.injection_rate_m2_s = spec_.rate_m2_s;
+  Status Bind(LiveState& s, const EffectSet&) override {
     if (s.net.well_domain < 0) return FailedPrecondition("injection: the scene has no well domain");
     SEEP_RETURN_IF_ERROR(Rebind(s));
     // The well starts from the formation's initial pressure, not the fixed well pressure.
@@ -108,14 +121,35 @@ class InjectionEffect final : public Effect {
   }
   // After a breakthrough there is no well domain: the injected fluid leaves through the
   // fracture into the outer reservoir, which holds its pressure.
-  Status Rebind(CoupledState& s) override {
+  Status Rebind(LiveState& s) override {
     if (s.net.well_domain < 0) return Status::Ok();
     ++s.counters.injection_updates;
     return s.net.flow.SetSource(s.net.well_domain, spec_.rate_m2_s);
   }
 
+  Status EndOfStep(LiveState& s, const StepInfo& info) override {
+    if (!info.flow_update || s.net.well_domain < 0) return Status::Ok();
+    const double well = s.net.flow.pressure()[static_cast<std::size_t>(s.net.well_domain)];
+    if (well > state_.peak_well_pressure_pa) {
+      state_.peak_well_pressure_pa = well;
+      state_.peak_well_time_s = info.time_s;
+    }
+    return Status::Ok();
+  }
+
+  void SaveTo(EffectStates* out) const override { out->injection = state_; }
+  void RestoreFrom(const EffectStates& in) override { state_ = in.injection; }
+  void AddMetrics(const LiveState& s, Metrics* m) const override {
+    (*m)["breakdown_pressure_pa"] = state_.peak_well_pressure_pa;
+    (*m)["breakdown_time_s"] = state_.peak_well_time_s;
+    if (s.net.well_domain >= 0) {
+      (*m)["well_pressure_pa"] = s.net.flow.pressure()[static_cast<std::size_t>(s.net.well_domain)];
+    }
+  }
+
  private:
   InjectionEffectSpec spec_;
+  InjectionEffectState state_;
 };
 
 }  // namespace

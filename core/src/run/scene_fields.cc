@@ -98,8 +98,8 @@ void AddLinearAnalytic(const Simulation& sim, SceneFields* f) {
     double stored = 0.0;
     double apparent = 0.0;
     for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
-      stored += scene.solver.storage == StorageVolumeKind::kPore ? net.domains.pore_volume[d]
-                                                                 : net.domains.apparent_volume[d];
+      stored += scene.solver.storage == StorageVolume::kPore ? net.domains.pore_volume[d]
+                                                             : net.domains.apparent_volume[d];
       apparent += net.domains.apparent_volume[d];
     }
     if (!(stored > 0.0) || !(apparent > 0.0)) return;

@@ -87,7 +87,7 @@ inline SceneSpec HydrofracScene(double confinement_pa, double bond_strength_pa) 
   s.aperture.max_aperture_m = 1e-4;
   s.boundary.radial = RadialBoundarySpec{2.5 * kRadius, 1.0, 0.0, 0.0};
   s.solver.kind = SolverKind::kExplicit;
-  s.solver.storage = StorageVolumeKind::kPore;
+  s.solver.storage = StorageVolume::kPore;
   s.solver.dt_factor = 0.9;
   s.solver.end_time_s = 0.04;
   ContactsEffectSpec contacts = Contacts();

@@ -35,7 +35,7 @@ TEST(Effects, UnlistedEffectsDoNoWork) {
   scene.effects = {Contacts(), FlowEffectSpec{}};
   Simulation sim = MustCreate(scene);
   MustRun(sim);
-  const EffectCounters& c = sim.coupled()->state().counters;
+  const EffectCounters& c = sim.stepper().state().counters;
   EXPECT_GT(c.dem.integrations, 0u);
   EXPECT_GT(c.dem.pair_evaluations, 0u);
   EXPECT_GT(c.flow_updates, 0u);
@@ -63,7 +63,7 @@ TEST(Effects, ListedEffectsEachDoTheirWork) {
   scene.effects.push_back(RedetectionEffectSpec{});
   Simulation sim = MustCreate(scene);
   MustRun(sim);
-  const EffectCounters& c = sim.coupled()->state().counters;
+  const EffectCounters& c = sim.stepper().state().counters;
   EXPECT_GT(c.dem.gravity_applications, 0u);
   EXPECT_GT(c.dem.local_damping_applications, 0u);
   EXPECT_GT(c.dem.servo_updates, 0u);
@@ -84,7 +84,7 @@ TEST(Effects, FlowOnlySceneDetectsNothingAfterSetUp) {
   const std::uint64_t contacts_before = ContactDetectionCalls();
   const std::uint64_t domains_before = DomainDetectionCalls();
   Simulation sim = MustCreate(scene);
-  EXPECT_EQ(sim.coupled(), nullptr);
+  EXPECT_FALSE(sim.stepper().state().moves());
   EXPECT_EQ(ContactDetectionCalls() - contacts_before, 1u);  // the set-up
   EXPECT_EQ(DomainDetectionCalls() - domains_before, 1u);
   MustRun(sim);
@@ -106,9 +106,9 @@ TEST(Effects, HookListsFollowTheCanonicalOrder) {
                    RedetectionEffectSpec{}};
   Simulation sim = MustCreate(scene);
   using Names = std::vector<std::string_view>;
-  EXPECT_EQ(sim.coupled()->HookList(kForceHook), (Names{"contacts", "gravity", "fluid_forces"}));
-  EXPECT_EQ(sim.coupled()->HookList(kPostForceHook), (Names{"local_damping"}));
-  EXPECT_EQ(sim.coupled()->HookList(kEndOfStepHook),
+  EXPECT_EQ(sim.stepper().HookList(kForceHook), (Names{"contacts", "gravity", "fluid_forces"}));
+  EXPECT_EQ(sim.stepper().HookList(kPostForceHook), (Names{"local_damping"}));
+  EXPECT_EQ(sim.stepper().HookList(kEndOfStepHook),
             (Names{"volume_change", "aperture_update", "flow", "redetection"}));
 }
 
@@ -166,7 +166,8 @@ void ExpectSameState(const SimulationSnapshot& got, const SimulationSnapshot& ex
   EXPECT_TRUE(BitEqual(got.mechanics->apparent_volume, expected.mechanics->apparent_volume));
   EXPECT_TRUE(BitEqual(got.mechanics->pore_volume, expected.mechanics->pore_volume));
   EXPECT_TRUE(BitEqual(got.mechanics->aperture, expected.mechanics->aperture));
-  EXPECT_EQ(got.mechanics->bonds_broken, expected.mechanics->bonds_broken);
+  EXPECT_EQ(got.mechanics->effects.contacts.bonds_broken,
+            expected.mechanics->effects.contacts.bonds_broken);
 }
 
 // Stop part-way, snapshot, restore into a fresh simulation, finish: the state equals that of an
@@ -191,7 +192,7 @@ TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
   // and re-detects from the restored state.
   std::uint64_t stop_at = 0;
   control.at_step_end = [&](const Simulation& s) {
-    if (stop_at == 0 && s.coupled()->state().bonds_broken > 0) stop_at = s.step() + 3;
+    if (stop_at == 0 && s.stepper().state().counters.dem.bonds_broken > 0) stop_at = s.step() + 3;
     if (s.step() == stop_at) stop.request_stop();
   };
   ASSERT_EQ(first.Run(control).code(), StatusCode::kCancelled);
@@ -205,7 +206,8 @@ TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
 
   ASSERT_TRUE(got.mechanics && expected.mechanics);
   // The stretch after the resume must exercise what the snapshot has to carry.
-  EXPECT_GT(expected.mechanics->bonds_broken, mid.mechanics->bonds_broken);
+  EXPECT_GT(expected.mechanics->effects.contacts.bonds_broken,
+            mid.mechanics->effects.contacts.bonds_broken);
   EXPECT_GT(expected.mechanics->topology_version, 0u);
   ExpectSameState(got, expected);
   EXPECT_TRUE(BitEqual(got.series.values, expected.series.values));
@@ -245,7 +247,7 @@ TEST(Effects, CoupledRunIsBitIdenticalOnOneAndTwoThreads) {
   EXPECT_GT(one.pressure.size(), 8192u);
   EXPECT_EQ(one.step, 40u);
   ExpectSameState(two, one);
-  EXPECT_GT(one.mechanics->bonds_broken, 0u);
+  EXPECT_GT(one.mechanics->effects.contacts.bonds_broken, 0u);
 }
 
 // With apparent storage the step keeps V_p at its detected value (it enters no equation), and
@@ -253,7 +255,7 @@ TEST(Effects, CoupledRunIsBitIdenticalOnOneAndTwoThreads) {
 // network as detected, to the bit.
 TEST(Effects, SnapshotCarriesCurrentPoreVolumesWithApparentStorage) {
   SceneSpec scene = BoxedLatticeScene(10, 8);
-  scene.solver.storage = StorageVolumeKind::kApparent;
+  scene.solver.storage = StorageVolume::kApparent;
   Simulation sim = MustCreate(scene);
   MustRun(sim);
   const SimulationSnapshot snap = sim.TakeSnapshot();
@@ -290,7 +292,7 @@ TEST(Effects, EffectSecondsCoverEveryListedEffect) {
   const auto t0 = std::chrono::steady_clock::now();
   MustRun(sim);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto split = sim.coupled()->EffectSeconds();
+  const auto split = sim.stepper().EffectSeconds();
   ASSERT_EQ(split.size(), scene.effects.size() + 1);
   EXPECT_EQ(split.front().first, "integration");
   double total = 0.0;
@@ -299,7 +301,7 @@ TEST(Effects, EffectSecondsCoverEveryListedEffect) {
     total += seconds;
   }
   EXPECT_LE(total, wall);
-  const auto force = sim.coupled()->HookList(kForceHook);
+  const auto force = sim.stepper().HookList(kForceHook);
   EXPECT_EQ(split[1].first, force.front());  // contacts leads
 }
 

@@ -28,9 +28,9 @@ TEST(HydraulicFracturing, BreaksDownNearHubbertWillisAndKeepsTheFluidBudget) {
   bool all_finite = true;
   RunControl control;
   control.at_step_end = [&](const Simulation& s) {
-    const CoupledState& state = s.coupled()->state();
+    const LiveState& state = s.stepper().state();
     for (double p : state.net.flow.pressure()) all_finite = all_finite && std::isfinite(p);
-    if (state.bonds_broken > 0 && state.net.well_domain >= 0) {
+    if (state.counters.dem.bonds_broken > 0 && state.net.well_domain >= 0) {
       well_min_after_peak =
           std::min(well_min_after_peak,
                    state.net.flow.pressure()[static_cast<std::size_t>(state.net.well_domain)]);

@@ -86,7 +86,7 @@ SceneSpec ColumnScene(double viscosity, double end_time_s) {
   s.boundary.outlet_pressure_pa = 0.0;
   s.boundary.initial_pressure_pa = 0.0;
   s.solver.kind = SolverKind::kImplicit;
-  s.solver.storage = StorageVolumeKind::kPore;
+  s.solver.storage = StorageVolume::kPore;
   s.solver.dt_factor = 1e6;  // the flow interval is then the DEM step
   s.solver.end_time_s = end_time_s;
   s.effects = {Contacts(kCoupledDtSafety),
@@ -126,9 +126,9 @@ std::vector<Sample> RunAndSample(const SceneSpec& scene, std::uint64_t every) {
   EXPECT_TRUE(created.ok()) << created.status().message();
   if (!created.ok()) return samples;
   Simulation& sim = *created;
-  const double wall0 = sim.coupled()->state().walls[kTopWall].py;
+  const double wall0 = sim.stepper().state().walls[kTopWall].py;
   auto record = [&](const Simulation& now) {
-    const CoupledState& s = now.coupled()->state();
+    const LiveState& s = now.stepper().state();
     Sample sample;
     sample.t = now.time_s();
     sample.settlement = wall0 - s.walls[kTopWall].py;

@@ -102,7 +102,7 @@ TEST(SceneFields, TransientStripFollowsTheSeries) {
   SceneSpec scene = LatticeScene(LatticeKind::kSquare, 40, 3, FlowAxis::kX);
   scene.boundary.initial_pressure_pa = 2e4;
   scene.solver.kind = SolverKind::kImplicit;
-  scene.solver.storage = StorageVolumeKind::kPore;
+  scene.solver.storage = StorageVolume::kPore;
   scene.solver.dt_factor = 1.0;
   // T = c t / L^2 with c = k K_f / (mu n_s), k = a^3 / (24 R), L = 40 * 2R.
   auto built = BuildSceneNetwork(scene);

@@ -64,7 +64,7 @@ TEST(SceneNetwork, RadialTransientRateFallsTowardsTheSteadyRate) {
   for (double end_time : {1e-4, 1e-3, 1e-2}) {
     SceneSpec transient = steady;
     transient.solver.kind = SolverKind::kImplicit;
-    transient.solver.storage = StorageVolumeKind::kPore;
+    transient.solver.storage = StorageVolume::kPore;
     transient.solver.dt_factor = 1e4;
     transient.solver.end_time_s = end_time;
     auto report = RunScene(transient, {});

@@ -47,7 +47,7 @@ TEST(SceneCodec, ConvertsAValidScene) {
   EXPECT_EQ(lattice.rows, 3u);
   EXPECT_DOUBLE_EQ(lattice.radius_m, 1e-3);
   EXPECT_EQ(spec->solver.kind, core::SolverKind::kImplicit);
-  EXPECT_EQ(spec->solver.storage, core::StorageVolumeKind::kPore);
+  EXPECT_EQ(spec->solver.storage, core::StorageVolume::kPore);
   EXPECT_DOUBLE_EQ(spec->aperture.gap_multiplier, 0.5);
   EXPECT_DOUBLE_EQ(spec->boundary.inlet_pressure_pa, 1e5);
 }

@@ -1,12 +1,10 @@
 // Simulation: one scene as a live, steppable, snapshottable run (design-anchors §5.3, after
-// OpenMM's Context). Create() builds the packing, contacts, domains, pipes and the solver the
-// scene names; Run() advances to the end time (or does the one steady solve) and can be stopped at
-// any step boundary; TakeSnapshot()/Restore() carry the state across a process restart so that a
-// resumed run ends bit-identical to an uninterrupted one on the same build.
-//
-// Determinism across a resume rests on three facts: the step count and step size come from the
-// scene only (dt = dt_factor * dt_crit of the network built from the scene); the last step lands
-// on end_time_s exactly; samples and progress fire at fixed step numbers, never on wall time.
+// OpenMM's Context): spec -> stepper -> snapshot/report, and nothing else. Create() validates the
+// scene, builds its packing, contacts, domains and pipes and the Stepper (the one step loop, with
+// the effects the scene lists); Run() advances to the end time (or does the one steady solve) and
+// can be stopped at any step boundary; TakeSnapshot()/Restore() carry the state across a process
+// restart so that a resumed run ends bit-identical to an uninterrupted one on the same build
+// (stepper.h says what the clock guarantees for that).
 #pragma once
 
 #include <spdlog/logger.h>
@@ -18,16 +16,13 @@
 #include <stop_token>
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
 #include "seep/core/coupling/particle_view.h"
-#include "seep/core/run/coupled_stepper.h"
-#include "seep/core/flow/explicit_solver.h"
-#include "seep/core/flow/implicit_solver.h"
 #include "seep/core/network/scene_network.h"
-#include "seep/core/spec/scene_spec.h"
 #include "seep/core/run/simulation_snapshot.h"
+#include "seep/core/run/stepper.h"
+#include "seep/core/spec/scene_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
@@ -76,62 +71,39 @@ class Simulation {
   // Continues from a snapshot taken from a simulation of the same scene. The snapshot's shape is
   // checked against this scene's network (DATA_LOSS naming what does not match); on error the
   // simulation is unchanged.
-  Status Restore(const SimulationSnapshot& snapshot);
-  SimulationSnapshot TakeSnapshot() const;
+  Status Restore(const SimulationSnapshot& snapshot) { return stepper_->Restore(snapshot); }
+  SimulationSnapshot TakeSnapshot() const { return stepper_->TakeSnapshot(); }
 
   // Advances until finished() or a stop request (kCancelled, the state stays at a step boundary
   // and can be snapshotted or run further). A numerical failure (non-finite pressure) is
   // FAILED_PRECONDITION with what to change.
   Status Run(const RunControl& control);
 
-  bool finished() const { return step_ >= total_steps_; }
-  std::uint64_t step() const { return step_; }
-  double time_s() const { return time_s_; }
-  std::uint64_t total_steps() const { return total_steps_; }
-  double dt_s() const { return dt_; }  // 0 for a steady scene
-  const SceneSpec& scene() const { return scene_; }
+  bool finished() const { return stepper_->finished(); }
+  std::uint64_t step() const { return stepper_->step(); }
+  double time_s() const { return stepper_->time_s(); }
+  std::uint64_t total_steps() const { return stepper_->total_steps(); }
+  double dt_s() const { return stepper_->dt(); }  // 0 for a steady scene
+  const SceneSpec& scene() const { return stepper_->scene(); }
   // The current network (for moving scenes: of the last re-detection; its packing holds the
   // positions it was detected from, particles() the current ones).
-  const SceneNetwork& network() const { return coupled_ ? coupled_->state().net : net_; }
+  const SceneNetwork& network() const { return stepper_->state().net; }
   // The particle centres and radii now (moving scenes: the DEM's; else the packing's).
   ParticleView particles() const;
-  // V_p of every flow node of network() at the particles now, as reports and exports show it (a
-  // moving scene's step may keep the detected V_p: CoupledStepper::ReportedPoreVolumes).
-  std::vector<double> PoreVolumes() const;
-  // The coupled step loop of a scene whose particles move; null for flow on a frozen packing.
-  const CoupledStepper* coupled() const { return coupled_.get(); }
+  // V_p of every flow node of network() at the particles now, as reports and exports show it.
+  std::vector<double> PoreVolumes() const { return stepper_->ReportedPoreVolumes(); }
+  // The step loop: live state, effects, hook lists, per-effect timings.
+  const Stepper& stepper() const { return *stepper_; }
   // The samples so far; the last row is the newest (live progress shows it).
-  const TimeSeries& series() const { return series_; }
+  const TimeSeries& series() const { return stepper_->series(); }
 
   // The measurements of the current state (the final ones once Run() returned OK).
   RunReport Report() const;
 
  private:
-  using Solver = std::variant<std::monostate, ExplicitSolver, ImplicitSolver>;
-  Simulation(SceneSpec scene, SceneNetwork net, std::shared_ptr<spdlog::logger> logger);
-  Status PrepareTransient();
-  Status PrepareCoupled(SceneNetwork net, bool has_network);
-  Status StepOnce();
-  Status StepCoupled();
-  void AddCoupledMetrics(std::map<std::string, double>& m) const;
-  void AddNetworkMetrics(std::map<std::string, double>& m) const;
-  void SampleFlow(double step_mass_balance_error);
-  void Sample(double step_mass_balance_error);
+  explicit Simulation(std::unique_ptr<Stepper> stepper) : stepper_(std::move(stepper)) {}
 
-  SceneSpec scene_;
-  SceneNetwork net_;
-  std::shared_ptr<spdlog::logger> log_;
-  Solver solver_;
-  std::unique_ptr<CoupledStepper> coupled_;
-  double dt_ = 0.0;
-  double dt_crit_ = 0.0;
-  std::int32_t limiting_domain_ = -1;
-  std::uint64_t total_steps_ = 1;
-  std::uint64_t sample_every_ = 1;
-  std::uint64_t step_ = 0;
-  double time_s_ = 0.0;
-  double worst_mass_balance_ = 0.0;
-  TimeSeries series_;
+  std::unique_ptr<Stepper> stepper_;
 };
 
 }  // namespace seep::core

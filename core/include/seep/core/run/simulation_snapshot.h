@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "seep/core/dem/dem_contact_state.h"
+#include "seep/core/effects/effect_state.h"
 
 namespace seep::core {
 
@@ -24,10 +25,10 @@ struct TimeSeries {
   std::size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
 };
 
-// The state of a scene whose particles move (the contacts effect): the particles, walls and
-// contact history, the topology of the current network (rebuilt on restore by the same detection
-// from the positions and contacts it was detected from) and the flow coefficients that moved
-// since (volumes, apertures).
+// The state of a scene whose particles move (the contacts effect): the live state the stepper owns
+// (particles, walls and contact history, the topology of the current network — rebuilt on restore
+// by the same detection from the positions and contacts it was detected from — and the flow
+// coefficients that moved since: volumes, apertures), and each effect's own part.
 struct MechanicsSnapshot {
   // Particles: the dynamic fields (mass, radius and inertia come from the scene).
   std::vector<double> x, y, vx, vy, omega, fx, fy, torque;
@@ -40,21 +41,16 @@ struct MechanicsSnapshot {
   std::vector<double> detection_gap;
   // Flow coefficients per node / pipe of that network.
   std::vector<double> apparent_volume, pore_volume, aperture;
-  // Run totals that later steps or the report depend on.
-  std::uint64_t bonds_broken = 0;
   std::uint64_t topology_version = 0;
-  double peak_well_pressure_pa = 0.0;
-  double peak_well_time_s = 0.0;
-  double worst_flow_mass_balance_error = 0.0;
-  std::int64_t max_flow_sub_steps = 0;
-  double breakthrough_time_s = -1.0;
+  // Each effect's run totals (its SaveTo / RestoreFrom).
+  EffectStates effects;
 };
 
 struct SimulationSnapshot {
   std::uint64_t step = 0;                 // steps completed
   double time_s = 0.0;                    // simulated time reached
   std::vector<double> pressure;           // per flow-network node (domains then reservoirs), Pa
-  double worst_mass_balance_error = 0.0;  // the largest relative step error so far
+  double worst_mass_balance_error = 0.0;  // the fluid books: the largest relative step error
   TimeSeries series;
   std::optional<MechanicsSnapshot> mechanics;  // scenes with the contacts effect only
 };

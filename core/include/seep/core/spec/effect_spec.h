@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -98,6 +99,23 @@ using EffectSpec = std::variant<ContactsEffectSpec, BondsEffectSpec, GravityEffe
                                 RedetectionEffectSpec, InjectionEffectSpec>;
 
 inline constexpr std::size_t kEffectKinds = std::variant_size_v<EffectSpec>;
+
+namespace effect_spec_internal {
+template <typename T, typename Variant>
+struct ArmIndex;
+template <typename T, typename... Arms>
+struct ArmIndex<T, std::variant<Arms...>> {
+  static constexpr std::size_t value = [] {
+    std::size_t i = 0;
+    (void)((std::is_same_v<T, Arms> ? false : (++i, true)) && ...);
+    return i;
+  }();
+};
+}  // namespace effect_spec_internal
+
+// The arm of EffectSpec that holds Spec: an effect's kind, the key of its name and its order.
+template <typename Spec>
+inline constexpr std::size_t kEffectKind = effect_spec_internal::ArmIndex<Spec, EffectSpec>::value;
 
 // The name a scene file and messages use for the arm (e.g. "fluid_forces").
 std::string_view EffectName(std::size_t kind);

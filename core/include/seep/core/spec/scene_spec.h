@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "seep/core/flow/fluid.h"
 #include "seep/core/spec/effect_spec.h"
 #include "seep/core/status.h"
 
@@ -94,11 +95,10 @@ struct BoundarySpec {
 // kImplicit is backward Euler; kCrankNicolson the theta = 1/2 method (second order, oscillates
 // above a few dt_crit after sharp changes).
 enum class SolverKind { kSteady, kExplicit, kImplicit, kCrankNicolson };
-enum class StorageVolumeKind { kApparent, kPore };
 
 struct SolverSpec {
   SolverKind kind = SolverKind::kSteady;
-  StorageVolumeKind storage = StorageVolumeKind::kPore;
+  StorageVolume storage = StorageVolume::kPore;  // which volume stores fluid (flow/fluid.h)
   double dt_factor = 0.9;
   double end_time_s = 0.0;
   std::uint64_t progress_every = 0;
@@ -137,6 +137,13 @@ inline bool HasMechanics(const SceneSpec& scene) { return HasEffect<ContactsEffe
 // The scene solves pipe flow (an empty effect list means flow alone).
 inline bool HasFlow(const SceneSpec& scene) {
   return scene.effects.empty() || HasEffect<FlowEffectSpec>(scene);
+}
+
+// The storage model the scene's solver uses (its storage volume, factor 1).
+inline StorageModel SceneStorage(const SceneSpec& scene) {
+  StorageModel storage;
+  storage.volume = scene.solver.storage;
+  return storage;
 }
 
 // The effects' own fields and how they combine (core/src/effects/effect_validation.cc): each

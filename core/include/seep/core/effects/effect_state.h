@@ -1,0 +1,35 @@
+// The persisted part of each effect that keeps run totals of its own: what it saves into a
+// snapshot and restores from one (Effect::SaveTo / RestoreFrom). An effect that is not listed
+// leaves its part at these defaults. Adding a persisted field touches the effect, its part here
+// and its codec (service/codec/mechanics_state_codec.cc) only.
+#pragma once
+
+#include <cstdint>
+
+namespace seep::core {
+
+struct ContactsEffectState {
+  std::uint64_t bonds_broken = 0;
+};
+
+struct FlowEffectState {
+  std::int64_t max_sub_steps = 0;  // most flow sub-steps in one flow update
+};
+
+struct RedetectionEffectState {
+  double breakthrough_time_s = -1.0;  // when a fracture first opened the well to the outside
+};
+
+struct InjectionEffectState {
+  double peak_well_pressure_pa = 0.0;  // the breakdown pressure once the well pressure falls
+  double peak_well_time_s = 0.0;
+};
+
+struct EffectStates {
+  ContactsEffectState contacts;
+  FlowEffectState flow;
+  RedetectionEffectState redetection;
+  InjectionEffectState injection;
+};
+
+}  // namespace seep::core

@@ -1,0 +1,61 @@
+// FlowEffect: pipe flow on the network with the scene's solver — the one place the flow solver is
+// made. Its mode follows from the scene:
+//   kSteady     a frozen packing, steady solver: one solve at step 1;
+//   kStepped    a frozen packing, transient solver: one solver step per step of the loop, whose
+//               step is dt_factor x dt_crit (the last one lands on end_time_s);
+//   kSubCycled  moving particles: one flow update per flow interval of `EverySteps` DEM steps,
+//               the explicit solver sub-cycled inside it, the implicit one in one step.
+// Either way the explicit governor allows dt_factor x dt_crit.
+#pragma once
+
+#include <cstdint>
+#include <variant>
+
+#include "seep/core/effects/effect.h"
+#include "seep/core/flow/explicit_solver.h"
+#include "seep/core/flow/implicit_solver.h"
+
+namespace seep::core {
+
+class VolumeChangeEffect;
+
+enum class FlowMode { kSteady, kStepped, kSubCycled };
+
+class FlowEffect final : public Effect {
+ public:
+  explicit FlowEffect(const FlowEffectSpec& spec)
+      : Effect(kEffectKind<FlowEffectSpec>), spec_(spec) {}
+  std::uint32_t Hooks() const override { return kEndOfStepHook; }
+
+  Status Bind(LiveState& s, const EffectSet& effects) override;
+  Status EndOfStep(LiveState& s, const StepInfo& info) override;
+
+  void SaveTo(EffectStates* out) const override { out->flow = state_; }
+  void RestoreFrom(const EffectStates& in) override { state_ = in.flow; }
+  void AddMetrics(const LiveState& s, Metrics* m) const override;
+  void AddSeriesColumns(std::vector<std::string>* columns) const override;
+  void AddSample(const LiveState& s, std::vector<double>* row) const override;
+
+  FlowMode mode() const { return mode_; }
+  // The explicit limit V_s/(K_f sum C) at the last update (at set-up before the first).
+  double dt_crit_s() const { return dt_crit_s_; }
+  std::int32_t limiting_domain() const { return limiting_domain_; }
+
+  // DEM steps per flow update of a moving scene (FlowEffectSpec::every_steps), given the DEM step
+  // and the step the fluid's stiffness allows; fixes the interval the report divides by.
+  std::uint64_t SetEverySteps(double dem_dt, double fluid_limited_dt, double dt_factor);
+  std::uint64_t every_steps() const { return every_steps_; }
+
+ private:
+  FlowEffectSpec spec_;
+  const SceneSpec* scene_ = nullptr;
+  FlowMode mode_ = FlowMode::kSteady;
+  std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
+  const VolumeChangeEffect* volume_change_ = nullptr;
+  double dt_crit_s_ = 0.0;
+  std::int32_t limiting_domain_ = -1;
+  std::uint64_t every_steps_ = 1;
+  FlowEffectState state_;
+};
+
+}  // namespace seep::core

@@ -1,0 +1,108 @@
+// Stepper: the one step loop of every scene (design-anchors §5.4, after LAMMPS's Verlet with its
+// fix masks). It owns the live state and the effects the scene lists, with one list per hook built
+// once at set-up; a frozen packing is a stepper whose only effect is flow (no integration), a
+// steady scene is that flow in steady mode for one step.
+//
+// One step (Step()):
+//   moving particles: IntegrateFirstHalf; MoveWalls
+//   kForce effects      contacts (set), gravity, fluid pressure forces
+//   kPostForce effects  local damping, servo walls
+//   moving particles: IntegrateSecondHalf
+//   kEndOfStep effects  on flow-update steps only: volume change, apertures, flow, re-detection
+//                       (+ remap), injection
+// After an end-of-step effect replaced the network (re-detection), every effect re-binds to it.
+//
+// The clock (determinism across a resume rests on it: the step count and the step come from the
+// scene only, samples fire at fixed step numbers, never on wall time):
+//   frozen transient  dt = dt_factor x dt_crit of the network; time adds up the steps and the last
+//                     step is the time left, so it lands on end_time_s exactly;
+//   moving            dt = the DEM step (contacts' stable estimate, combined with the fluid's
+//                     stiffness when pressure follows deformation); time = step x dt; a flow
+//                     update every `flow_every` steps (FlowEffectSpec::every_steps) and at the end;
+//   steady            one step, no time.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "seep/core/effects/effect_set.h"
+#include "seep/core/effects/live_state.h"
+#include "seep/core/run/simulation_snapshot.h"
+
+namespace seep::core {
+
+class Stepper {
+ public:
+  // `net` is the network built at set-up (for scenes with flow), else only its packing is used.
+  static Result<std::unique_ptr<Stepper>> Create(const SceneSpec& scene, SceneNetwork net,
+                                                 bool has_network);
+
+  // Takes the next step.
+  Status Step();
+
+  bool finished() const { return step_ >= total_steps_; }
+  std::uint64_t step() const { return step_; }
+  double time_s() const { return time_s_; }
+  std::uint64_t total_steps() const { return total_steps_; }
+  std::uint64_t sample_every() const { return sample_every_; }
+  double dt() const { return dt_; }  // 0 for a steady scene
+  std::uint64_t flow_every() const { return flow_every_; }
+  const SceneSpec& scene() const { return scene_; }
+  const LiveState& state() const { return state_; }
+  const TimeSeries& series() const { return series_; }
+  // One line for the log: the step, the step count, the flow interval and the hook lists.
+  std::string Describe() const;
+
+  // Names of the effects in each hook list, in call order (for the log and the tests).
+  std::vector<std::string_view> HookList(Hook hook) const;
+  // Wall seconds spent in each effect's hooks (and in the integration, as "integration") since
+  // set-up, in the canonical effect order: what each effect costs a run (the benchmarks and the
+  // run report). Not state: never checkpointed, never read by the physics.
+  std::vector<std::pair<std::string_view, double>> EffectSeconds() const;
+
+  // V_p of every flow node as a report shows it: current, also where the step keeps the detected
+  // V_p (apparent storage; see VolumeChangeEffect).
+  std::vector<double> ReportedPoreVolumes() const;
+  // The measurements of the current state, every effect's included.
+  Metrics Measure() const;
+
+  SimulationSnapshot TakeSnapshot() const;
+  // Continues from a snapshot of a stepper of the same scene; DATA_LOSS naming what does not fit,
+  // and then the state is unchanged.
+  Status Restore(const SimulationSnapshot& snap);
+
+ private:
+  explicit Stepper(const SceneSpec& scene);
+  Status SetClock();
+  Status RebindAll();
+  // Forces of the initial state, so that the first half-kick has them (velocity-Verlet).
+  Status InitialForces();
+  Status CheckParticlesFinite(std::uint64_t step) const;
+  StepInfo NextStep() const;
+  void Sample();
+  void SaveMechanics(MechanicsSnapshot* out) const;
+  Status RestoreMechanics(const MechanicsSnapshot& snap, const std::vector<double>& pressure);
+
+  SceneSpec scene_;
+  LiveState state_;
+  EffectSet effects_;
+  // Hook lists hold indices into effects_.all (so each call can be timed against its effect).
+  std::vector<std::size_t> force_, post_force_, end_of_step_;
+  std::vector<double> effect_seconds_;  // per effects_.all entry
+  double integration_seconds_ = 0.0;
+  // The clock.
+  double dt_ = 0.0;
+  double fluid_limited_dt_ = 0.0;  // the step the fluid's stiffness allows (moving), else inf
+  std::uint64_t total_steps_ = 1;
+  std::uint64_t sample_every_ = 1;
+  std::uint64_t flow_every_ = 1;
+  std::uint64_t step_ = 0;
+  double time_s_ = 0.0;
+  TimeSeries series_;
+};
+
+}  // namespace seep::core

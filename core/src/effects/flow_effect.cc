@@ -1,0 +1,157 @@
+#include "seep/core/effects/flow_effect.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "network_report.h"
+#include "seep/core/effects/effect_set.h"
+#include "seep/core/effects/volume_change_effect.h"
+#include "seep/core/flow/steady_state_solver.h"
+#include "seep/core/flow/time_step_limit.h"
+
+namespace seep::core {
+namespace {
+
+Status CheckFinite(const FlowStepReport& r, const StepInfo& info) {
+  if (std::isfinite(r.min_pressure) && std::isfinite(r.max_pressure)) return Status::Ok();
+  return FailedPrecondition(fmt::format(
+      "flow: pressure became non-finite at step {} (t = {} s); lower solver.dt_factor or use "
+      "the implicit solver",
+      info.step, info.time_s));
+}
+
+}  // namespace
+
+Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
+  const SceneSpec& scene = *s.scene;
+  scene_ = s.scene;
+  volume_change_ = effects.volume_change;
+  if (s.moves()) {
+    mode_ = FlowMode::kSubCycled;
+  } else {
+    mode_ = scene.solver.kind == SolverKind::kSteady ? FlowMode::kSteady : FlowMode::kStepped;
+  }
+  if (mode_ == FlowMode::kSteady) return Status::Ok();
+  const StorageModel storage = SceneStorage(scene);
+  if (scene.solver.kind == SolverKind::kExplicit) {
+    ExplicitSolverOptions options;
+    options.bulk_modulus = scene.fluid.bulk_modulus_pa;
+    options.storage = storage;
+    // Stepped: the step is dt_factor x dt_crit, so the governor passes it and refuses only a
+    // network that changed under it; sub-cycled: the sub-steps are cut to it.
+    options.safety_factor = scene.solver.dt_factor;
+    options.policy = StepLimitPolicy::kRefuse;
+    SEEP_ASSIGN_OR_RETURN(ExplicitSolver solver, ExplicitSolver::Create(options));
+    solver_.emplace<ExplicitSolver>(std::move(solver));
+  } else {
+    ImplicitSolverOptions options;
+    options.bulk_modulus = scene.fluid.bulk_modulus_pa;
+    options.storage = storage;
+    options.theta = scene.solver.kind == SolverKind::kCrankNicolson ? 0.5 : 1.0;
+    SEEP_ASSIGN_OR_RETURN(ImplicitSolver solver, ImplicitSolver::Create(options));
+    solver_.emplace<ImplicitSolver>(std::move(solver));
+  }
+  SEEP_ASSIGN_OR_RETURN(const CriticalTimeStep limit,
+                        ComputeCriticalTimeStep(s.net.flow, scene.fluid.bulk_modulus_pa, storage));
+  dt_crit_s_ = limit.dt_crit;
+  limiting_domain_ = limit.limiting_domain;
+  return Status::Ok();
+}
+
+std::uint64_t FlowEffect::SetEverySteps(double dem_dt, double fluid_limited_dt, double dt_factor) {
+  every_steps_ = 1;
+  if (spec_.every_steps > 0) {
+    every_steps_ = spec_.every_steps;
+  } else {
+    // The interval also stays within the step the fluid's stiffness allows: a pressure that
+    // lags the deformation by more acts as a delayed spring and pumps energy into the particles.
+    const double interval = std::min(dt_factor * dt_crit_s_, fluid_limited_dt);
+    const double fit = interval / dem_dt;
+    if (fit >= 1.0) every_steps_ = static_cast<std::uint64_t>(std::min(fit, 1e6));
+  }
+  return every_steps_;
+}
+
+Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
+  if (!info.flow_update) return Status::Ok();
+  double error = 0.0;
+  std::int64_t sub_steps = 1;
+  if (mode_ == FlowMode::kSteady) {
+    SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(s.net.flow));
+    error = report.mass_balance_error;
+  } else if (auto* explicit_solver = std::get_if<ExplicitSolver>(&solver_)) {
+    if (mode_ == FlowMode::kStepped) {
+      SEEP_ASSIGN_OR_RETURN(const FlowStepReport report,
+                            explicit_solver->Step(s.net.flow, info.flow_dt));
+      SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
+      error = report.mass_balance_error;
+    } else {
+      const std::span<const double> dv =
+          volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
+      SEEP_ASSIGN_OR_RETURN(const FlowAdvanceReport report,
+                            explicit_solver->Advance(s.net.flow, info.flow_dt, dv));
+      SEEP_RETURN_IF_ERROR(CheckFinite(report.last, info));
+      error = report.max_mass_balance_error;
+      sub_steps = report.sub_steps;
+      dt_crit_s_ = report.dt_crit;
+      limiting_domain_ = report.limiting_domain;
+    }
+  } else {
+    const std::span<const double> dv =
+        volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
+    SEEP_ASSIGN_OR_RETURN(const FlowStepReport report,
+                          std::get<ImplicitSolver>(solver_).Step(s.net.flow, info.flow_dt, dv));
+    SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
+    error = report.mass_balance_error;
+    if (mode_ == FlowMode::kSubCycled) {
+      dt_crit_s_ = report.dt_crit;
+      limiting_domain_ = report.limiting_domain;
+    }
+  }
+  ++s.counters.flow_updates;
+  s.counters.flow_sub_steps += static_cast<std::uint64_t>(sub_steps);
+  s.books.step_error = error;
+  s.books.worst_error = std::max(s.books.worst_error, error);
+  state_.max_sub_steps = std::max(state_.max_sub_steps, sub_steps);
+  return Status::Ok();
+}
+
+void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
+  switch (mode_) {
+    case FlowMode::kSteady:
+      (*m)["mass_balance_error"] = s.books.worst_error;
+      break;
+    case FlowMode::kStepped:
+      (*m)["dt_crit_s"] = dt_crit_s_;
+      (*m)["dt_over_dt_crit"] = s.scene->solver.dt_factor;
+      (*m)["limiting_domain"] = limiting_domain_;
+      (*m)["mass_balance_error_max"] = s.books.worst_error;
+      break;
+    case FlowMode::kSubCycled:
+      // Sub-cycles per DEM step: flow sub-steps of the largest update over its DEM steps.
+      (*m)["flow_sub_steps_max"] = static_cast<double>(state_.max_sub_steps);
+      (*m)["flow_sub_steps_per_dem_step_max"] =
+          static_cast<double>(state_.max_sub_steps) / static_cast<double>(every_steps_);
+      (*m)["dt_crit_s"] = dt_crit_s_;
+      (*m)["limiting_domain"] = limiting_domain_;
+      (*m)["mass_balance_error_max"] = s.books.worst_error;
+      break;
+  }
+  if (volume_change_ != nullptr) {
+    effects_internal::AddNetworkMetrics(*s.scene, s.net, volume_change_->ReportedPoreVolumes(s), m);
+  } else {
+    effects_internal::AddNetworkMetrics(*s.scene, s.net, s.net.flow.pore_volume(), m);
+  }
+}
+
+void FlowEffect::AddSeriesColumns(std::vector<std::string>* columns) const {
+  effects_internal::AddNetworkSeriesColumns(*scene_, columns);
+}
+
+void FlowEffect::AddSample(const LiveState& s, std::vector<double>* row) const {
+  effects_internal::AddNetworkSample(*s.scene, s.net, s.books.step_error, row);
+}
+
+}  // namespace seep::core

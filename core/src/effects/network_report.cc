@@ -1,0 +1,116 @@
+#include "network_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "seep/core/flow/flow_diagnostics.h"
+
+namespace seep::core::effects_internal {
+namespace {
+
+// Rate (m^2/s) at which fluid leaves fixed-pressure node `node` into the sample; 0 when no pipe
+// joins it to a free domain. `domain` is sorted, as ComputeBoundaryFluxes emits it.
+double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node) {
+  const auto it = std::lower_bound(fluxes.domain.begin(), fluxes.domain.end(), node);
+  if (it == fluxes.domain.end() || *it != node) return 0.0;
+  return fluxes.inflow[static_cast<std::size_t>(it - fluxes.domain.begin())];
+}
+
+// The rate into fixed-pressure node `node` out of the sample; 0 - x rather than -x, so that no
+// flow reads 0 and not -0.
+double NodeOutflow(const BoundaryFluxes& fluxes, std::int32_t node) {
+  return 0.0 - NodeInflow(fluxes, node);
+}
+
+void AddPressureRange(const FlowNetwork& network, Metrics& m) {
+  const PressureRange range = ComputePressureRange(network);
+  m["min_pressure_pa"] = range.min;
+  m["max_pressure_pa"] = range.max;
+}
+
+// The exact permeability of a rigid lattice with uniform aperture a (physics.md §1.3, L = 2R).
+std::optional<double> LatticePermeability(const SceneSpec& scene) {
+  const auto* lattice = std::get_if<LatticePackingSpec>(&scene.packing.source);
+  if (lattice == nullptr) return std::nullopt;
+  const double a = scene.aperture.residual_aperture_m;
+  const double k = a * a * a / (24.0 * lattice->radius_m);
+  return lattice->kind == LatticeKind::kSquare ? k : k / std::sqrt(3.0);
+}
+
+void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m) {
+  const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
+  const double inflow = NodeInflow(fluxes, net.inlet_node);
+  const double outflow = NodeOutflow(fluxes, net.outlet_node);
+  m["inflow_m2_per_s"] = inflow;
+  m["outflow_m2_per_s"] = outflow;
+  const double dp = scene.boundary.inlet_pressure_pa - scene.boundary.outlet_pressure_pa;
+  if (const auto k = DarcyPermeability(scene.fluid.viscosity_pa_s, 0.5 * (inflow + outflow),
+                                       net.length_m, net.width_m, dp);
+      k.ok()) {
+    m["permeability_m2"] = *k;
+    if (const auto exact = LatticePermeability(scene)) {
+      m["lattice_permeability_m2"] = *exact;
+      m["permeability_relative_error"] = std::abs(*k - *exact) / *exact;
+    }
+  }
+  AddPressureRange(net.flow, m);
+  m["sample_length_m"] = net.length_m;
+  m["sample_width_m"] = net.width_m;
+}
+
+// Radial boundary: the rate out of the well into the sample and into the outer reservoir.
+void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
+  const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
+  m["well_flow_rate_m2_per_s"] = NodeInflow(fluxes, net.well_domain);
+  m["outer_flow_rate_m2_per_s"] = NodeOutflow(fluxes, net.outer_node);
+  m["outer_reservoir_radius_m"] = net.outer_reservoir_radius_m;
+  if (net.well_domain >= 0) {
+    m["well_area_m2"] = net.domains.apparent_volume[static_cast<std::size_t>(net.well_domain)];
+  }
+  AddPressureRange(net.flow, m);
+}
+
+}  // namespace
+
+void AddNetworkSeriesColumns(const SceneSpec& scene, std::vector<std::string>* columns) {
+  if (scene.boundary.radial) {
+    columns->insert(columns->end(), {"well_flow_rate_m2_per_s", "outer_flow_rate_m2_per_s",
+                                     "min_pressure_pa", "max_pressure_pa", "mass_balance_error"});
+  } else {
+    columns->insert(columns->end(), {"inflow_m2_per_s", "outflow_m2_per_s", "min_pressure_pa",
+                                     "max_pressure_pa", "mass_balance_error"});
+  }
+}
+
+void AddNetworkSample(const SceneSpec& scene, const SceneNetwork& net, double step_error,
+                      std::vector<double>* row) {
+  const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
+  const PressureRange range = ComputePressureRange(net.flow);
+  const bool radial = scene.boundary.radial.has_value();
+  const double first = NodeInflow(fluxes, radial ? net.well_domain : net.inlet_node);
+  const double second = NodeOutflow(fluxes, radial ? net.outer_node : net.outlet_node);
+  row->insert(row->end(), {first, second, range.min, range.max, step_error});
+}
+
+void AddNetworkMetrics(const SceneSpec& scene, const SceneNetwork& net,
+                       std::span<const double> pore_volume, Metrics* m) {
+  if (scene.boundary.radial) {
+    AddRadialMetrics(net, *m);
+  } else {
+    AddDarcyMetrics(scene, net, *m);
+  }
+  double pore = 0.0;
+  double apparent = 0.0;
+  for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
+    pore += pore_volume[d];
+    apparent += net.domains.apparent_volume[d];
+  }
+  (*m)["particle_count"] = static_cast<double>(net.packing.size());
+  (*m)["contact_count"] = static_cast<double>(net.contacts.size());
+  (*m)["domain_count"] = static_cast<double>(net.domains.num_domains());
+  (*m)["pipe_count"] = static_cast<double>(net.flow.num_pipes());
+  (*m)["porosity_2d"] = apparent > 0.0 ? pore / apparent : 0.0;
+}
+
+}  // namespace seep::core::effects_internal

@@ -1,0 +1,94 @@
+#include "seep/core/effects/volume_change_effect.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "seep/core/log.h"
+
+namespace seep::core {
+namespace {
+
+ParticleView CurrentView(const LiveState& s) {
+  return ParticleView{s.particles.x, s.particles.y, s.particles.radius};
+}
+
+}  // namespace
+
+Status VolumeChangeEffect::Bind(LiveState& s, const EffectSet&) { return Rebind(s); }
+
+Status VolumeChangeEffect::Rebind(LiveState& s) {
+  const ParticleView at_detection{s.detection_x, s.detection_y, s.particles.radius};
+  SEEP_RETURN_IF_ERROR(updater_.Bind(at_detection, s.net.domains));
+  const std::size_t n = s.net.domains.num_domains();
+  apparent_.assign(n, 0.0);
+  pore_.assign(n, 0.0);
+  change_.assign(s.net.flow.num_domains(), 0.0);
+  storage_ = SceneStorage(*s.scene);
+  return Status::Ok();
+}
+
+// New volumes into the network, dV of the storage volume over the interval into change_. With
+// apparent storage V_p enters no equation of the step, so only V_d is recomputed (the wedge
+// angles and lenses of V_p are most of the cost). The network keeps the V_p of the last detection
+// or restore, capped at V_d so that it stays a valid network; every snapshot and report carries
+// V_p fresh from the positions (ReportedPoreVolumes), so what a checkpoint, an export, a result or
+// a state hash shows is current, and is the same for a resumed run.
+Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
+  if (!info.flow_update) return Status::Ok();
+  const bool pore = storage_.volume == StorageVolume::kPore;
+  if (pore) {
+    SEEP_RETURN_IF_ERROR(updater_.Compute(CurrentView(s), s.net.domains, apparent_, pore_));
+  } else {
+    SEEP_RETURN_IF_ERROR(updater_.ComputeApparent(CurrentView(s), s.net.domains, apparent_));
+  }
+  ++s.counters.volume_updates;
+  const std::size_t n = apparent_.size();
+  const std::span<const double> before =
+      pore ? s.net.flow.pore_volume() : s.net.flow.apparent_volume();
+  const std::span<const double> after = pore ? pore_ : apparent_;
+  const DomainRole* role = s.net.flow.role().data();
+  double* change = change_.data();
+  for (std::size_t d = 0; d < n; ++d) {
+    change[d] = storage_.factor * (after[d] - before[d]);
+    if (!(after[d] > 0.0) && role[d] != DomainRole::kFixedPressure) {
+      return FailedPrecondition(fmt::format(
+          "coupling: domain {} collapsed (volume {} m^2 at step {}); the particles overlap "
+          "too much: raise contacts.law.kn or lower the load",
+          d, after[d], info.step));
+    }
+  }
+  std::copy(apparent_.begin(), apparent_.end(), s.net.flow.mutable_apparent_volume().begin());
+  // The domain network carries the same volumes, so that a re-detection's pressure remap
+  // weighs the old domains as the flow solver stored them.
+  std::copy(apparent_.begin(), apparent_.end(), s.net.domains.apparent_volume.begin());
+  if (pore) {
+    std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
+    std::copy(pore_.begin(), pore_.end(), s.net.domains.pore_volume.begin());
+  } else {
+    const std::span<double> kept = s.net.flow.mutable_pore_volume();
+    for (std::size_t d = 0; d < n; ++d) {
+      kept[d] = std::min(kept[d], apparent_[d]);
+      s.net.domains.pore_volume[d] = kept[d];
+    }
+  }
+  return Status::Ok();
+}
+
+std::vector<double> VolumeChangeEffect::ReportedPoreVolumes(const LiveState& s) const {
+  const auto kept = s.net.flow.pore_volume();
+  std::vector<double> out(kept.begin(), kept.end());
+  if (storage_.volume == StorageVolume::kPore || !s.has_network) return out;
+  const std::size_t n = s.net.domains.num_domains();
+  std::vector<double> apparent(n), pore(n);
+  const Status status = updater_.Compute(CurrentView(s), s.net.domains, apparent, pore);
+  if (!status.ok()) {
+    // The updater is bound to this network by construction; keep the stored V_p and say so.
+    Logger()->error("coupling: snapshot keeps the detected pore volumes: {}", status.message());
+    return out;
+  }
+  std::copy(pore.begin(), pore.end(), out.begin());
+  return out;
+}
+
+}  // namespace seep::core

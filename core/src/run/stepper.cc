@@ -1,0 +1,285 @@
+#include "seep/core/run/stepper.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "seep/core/dem/dem_integrator.h"
+#include "seep/core/effects/flow_effect.h"
+#include "seep/core/effects/fluid_stable_step.h"
+#include "seep/core/effects/volume_change_effect.h"
+
+namespace seep::core {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Progress reports (and time-series samples) per run when the scene does not choose an interval.
+constexpr std::uint64_t kDefaultProgressReports = 200;
+
+// Runs one hook of one effect and adds its wall time to *seconds.
+template <typename Call>
+Status Timed(double* seconds, Call call) {
+  const Clock::time_point start = Clock::now();
+  const Status status = call();
+  *seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  return status;
+}
+
+std::uint64_t StepsToEnd(double end, double dt) {
+  return std::max<std::uint64_t>(1,
+                                 static_cast<std::uint64_t>(std::ceil(end / dt * (1.0 - 1e-12))));
+}
+
+}  // namespace
+
+Stepper::Stepper(const SceneSpec& scene) : scene_(scene) { state_.scene = &scene_; }
+
+Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNetwork net,
+                                                 bool has_network) {
+  std::unique_ptr<Stepper> stepper(new Stepper(scene));
+  LiveState& s = stepper->state_;
+  s.net = std::move(net);
+  s.has_network = has_network;
+  s.detection_x = s.net.packing.x;
+  s.detection_y = s.net.packing.y;
+  // An empty list is what every scene meant before effects existed: flow on a frozen packing.
+  stepper->effects_ =
+      MakeEffects(stepper->scene_.effects.empty() ? std::vector<EffectSpec>{FlowEffectSpec{}}
+                                                  : stepper->scene_.effects);
+  const std::vector<std::unique_ptr<Effect>>& all = stepper->effects_.all;
+  stepper->effect_seconds_.assign(all.size(), 0.0);
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    Effect& effect = *all[k];
+    SEEP_RETURN_IF_ERROR(effect.Bind(s, stepper->effects_));
+    const std::uint32_t hooks = effect.Hooks();
+    if (hooks & kForceHook) stepper->force_.push_back(k);
+    if (hooks & kPostForceHook) stepper->post_force_.push_back(k);
+    if (hooks & kEndOfStepHook) stepper->end_of_step_.push_back(k);
+  }
+  if (s.moves() && all[stepper->force_.front()].get() != stepper->effects_.contacts) {
+    return Internal("step loop: the contacts effect must lead the force list");
+  }
+  SEEP_RETURN_IF_ERROR(stepper->SetClock());
+  stepper->series_.columns = {"time_s"};
+  // The network's columns lead, as they did before effects existed (a frozen packing has only
+  // them); the others follow in canonical order.
+  if (stepper->effects_.flow != nullptr) {
+    stepper->effects_.flow->AddSeriesColumns(&stepper->series_.columns);
+  }
+  for (const auto& effect : all) {
+    if (effect.get() != stepper->effects_.flow) effect->AddSeriesColumns(&stepper->series_.columns);
+  }
+  if (s.moves()) SEEP_RETURN_IF_ERROR(stepper->InitialForces());
+  stepper->Sample();  // the initial state is the first row
+  return stepper;
+}
+
+Status Stepper::SetClock() {
+  const SolverSpec& solver = scene_.solver;
+  FlowEffect* flow = effects_.flow;
+  fluid_limited_dt_ = std::numeric_limits<double>::infinity();
+  if (!state_.moves()) {
+    if (flow->mode() == FlowMode::kSteady) return Status::Ok();
+    if (!std::isfinite(flow->dt_crit_s())) {
+      return FailedPrecondition("flow: no domain limits the time step (no pipes carry flow)");
+    }
+    dt_ = solver.dt_factor * flow->dt_crit_s();
+  } else {
+    const auto* contacts = FindEffect<ContactsEffectSpec>(scene_);
+    SEEP_ASSIGN_OR_RETURN(dt_, EstimateStableTimeStep(state_.particles, contacts->law.kn,
+                                                      contacts->law.kt, contacts->dt_safety));
+    if (effects_.fluid_forces != nullptr && effects_.volume_change != nullptr) {
+      // The pore fluid is a spring between the particles: the step must resolve it as well.
+      // Contacts and fluid act on the same particles in parallel: their stiffnesses add, so
+      // 1/dt^2 = 1/dt_contacts^2 + 1/dt_fluid^2 (taking the smaller alone let an undamped column
+      // diverge at dt_safety 0.5).
+      fluid_limited_dt_ = FluidStableStep(state_, contacts->dt_safety);
+      dt_ = 1.0 / std::sqrt(1.0 / (dt_ * dt_) + 1.0 / (fluid_limited_dt_ * fluid_limited_dt_));
+    }
+    if (flow != nullptr)
+      flow_every_ = flow->SetEverySteps(dt_, fluid_limited_dt_, solver.dt_factor);
+  }
+  total_steps_ = StepsToEnd(solver.end_time_s, dt_);
+  sample_every_ = solver.progress_every > 0
+                      ? solver.progress_every
+                      : std::max<std::uint64_t>(1, total_steps_ / kDefaultProgressReports);
+  return Status::Ok();
+}
+
+std::string Stepper::Describe() const {
+  const SolverSpec& solver = scene_.solver;
+  if (!state_.moves()) {
+    if (dt_ == 0.0) return "steady solve";
+    return fmt::format(
+        "{} solver: dt = {:.6g} s = {} x dt_crit (limiting domain {}), {} steps to t = {} s",
+        solver.kind == SolverKind::kExplicit        ? "explicit"
+        : solver.kind == SolverKind::kCrankNicolson ? "crank-nicolson"
+                                                    : "implicit",
+        dt_, solver.dt_factor, effects_.flow->limiting_domain(), total_steps_, solver.end_time_s);
+  }
+  std::string hooks;
+  for (const Hook hook : {kForceHook, kPostForceHook, kEndOfStepHook}) {
+    hooks += hooks.empty() ? "[" : "] [";
+    for (const std::string_view name : HookList(hook)) {
+      hooks += fmt::format("{}{}", hooks.back() == '[' ? "" : " ", name);
+    }
+  }
+  return fmt::format(
+      "coupled run: {} particles, DEM dt = {:.6g} s, {} steps to t = {} s; flow every {} DEM "
+      "step(s) (fluid dt_crit {:.6g} s); hooks force/post-force/end-of-step: {}]",
+      state_.particles.size(), dt_, total_steps_, solver.end_time_s, flow_every_,
+      effects_.flow != nullptr ? effects_.flow->dt_crit_s() : 0.0, hooks);
+}
+
+std::vector<std::string_view> Stepper::HookList(Hook hook) const {
+  const std::vector<std::size_t>& list = hook == kForceHook       ? force_
+                                         : hook == kPostForceHook ? post_force_
+                                                                  : end_of_step_;
+  std::vector<std::string_view> names;
+  for (const std::size_t k : list) names.push_back(effects_.all[k]->Name());
+  return names;
+}
+
+std::vector<std::pair<std::string_view, double>> Stepper::EffectSeconds() const {
+  std::vector<std::pair<std::string_view, double>> out;
+  out.emplace_back("integration", integration_seconds_);
+  for (std::size_t k = 0; k < effects_.all.size(); ++k) {
+    out.emplace_back(effects_.all[k]->Name(), effect_seconds_[k]);
+  }
+  return out;
+}
+
+std::vector<double> Stepper::ReportedPoreVolumes() const {
+  if (effects_.volume_change != nullptr) return effects_.volume_change->ReportedPoreVolumes(state_);
+  const auto pore = state_.net.flow.pore_volume();
+  return {pore.begin(), pore.end()};
+}
+
+Status Stepper::InitialForces() {
+  StepInfo info;
+  info.dt = dt_;
+  for (const std::size_t k : force_) {
+    SEEP_RETURN_IF_ERROR(effects_.all[k]->AddForces(state_, info));
+  }
+  for (const std::size_t k : post_force_) {
+    SEEP_RETURN_IF_ERROR(effects_.all[k]->PostForce(state_, info));
+  }
+  return Status::Ok();
+}
+
+Status Stepper::RebindAll() {
+  for (const auto& effect : effects_.all) SEEP_RETURN_IF_ERROR(effect->Rebind(state_));
+  return Status::Ok();
+}
+
+Status Stepper::CheckParticlesFinite(std::uint64_t step) const {
+  const DemParticles& p = state_.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i])) {
+      return FailedPrecondition(
+          fmt::format("mechanics: particle {} left the finite numbers at step {}; lower "
+                      "contacts.dt_safety or check the stiffness and the loads",
+                      i, step));
+    }
+  }
+  return Status::Ok();
+}
+
+StepInfo Stepper::NextStep() const {
+  StepInfo info;
+  info.step = step_ + 1;
+  const bool last = info.step == total_steps_;
+  if (state_.moves()) {
+    info.dt = dt_;
+    info.time_s = static_cast<double>(info.step) * dt_;
+    if (effects_.flow != nullptr && (info.step % flow_every_ == 0 || last)) {
+      const std::uint64_t interval_start = (info.step - 1) / flow_every_ * flow_every_;
+      info.flow_update = true;
+      info.flow_dt = static_cast<double>(info.step - interval_start) * dt_;
+    }
+    return info;
+  }
+  // The last step lands on end_time_s: it is the time left, which the summed steps can make an
+  // ulp longer than dt (that would exceed dt_crit at dt_factor 1), so never more than dt.
+  const double end = scene_.solver.end_time_s;
+  info.dt = last ? std::min(end - time_s_, dt_) : dt_;
+  info.time_s = last ? end : time_s_ + info.dt;
+  if (dt_ == 0.0) info.time_s = 0.0;  // steady
+  info.flow_update = true;
+  info.flow_dt = info.dt;
+  return info;
+}
+
+Status Stepper::Step() {
+  LiveState& s = state_;
+  const StepInfo info = NextStep();
+  const bool moves = s.moves();
+  Clock::time_point start = Clock::now();
+  if (moves) {
+    IntegrateFirstHalf(&s.particles, dt_, &s.counters.dem);
+    if (!s.walls.empty()) MoveWalls(&s.walls, dt_);
+    integration_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  for (const std::size_t k : force_) {
+    Effect& e = *effects_.all[k];
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));
+  }
+  for (const std::size_t k : post_force_) {
+    Effect& e = *effects_.all[k];
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.PostForce(s, info); }));
+  }
+  if (moves) {
+    start = Clock::now();
+    IntegrateSecondHalf(&s.particles, dt_, &s.counters.dem);
+    integration_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+    // A blow-up is caught within a flow interval, or 64 steps without flow, not with a pass over
+    // the particles every step; it cannot hide: non-finite positions stay non-finite.
+    if (info.flow_update || info.step % 64 == 0 || info.step == total_steps_) {
+      SEEP_RETURN_IF_ERROR(CheckParticlesFinite(info.step));
+    }
+  }
+  if (info.flow_update) {
+    for (const std::size_t k : end_of_step_) {
+      const std::uint64_t topology = s.topology_version;
+      Effect& e = *effects_.all[k];
+      SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.EndOfStep(s, info); }));
+      if (s.topology_version != topology) {
+        SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return RebindAll(); }));
+      }
+    }
+  }
+  step_ = info.step;
+  time_s_ = info.time_s;
+  if (step_ % sample_every_ == 0 || finished()) Sample();
+  return Status::Ok();
+}
+
+void Stepper::Sample() {
+  series_.values.push_back(time_s_);
+  if (effects_.flow != nullptr) effects_.flow->AddSample(state_, &series_.values);
+  for (const auto& effect : effects_.all) {
+    if (effect.get() != effects_.flow) effect->AddSample(state_, &series_.values);
+  }
+}
+
+Metrics Stepper::Measure() const {
+  Metrics m;
+  for (const auto& effect : effects_.all) effect->AddMetrics(state_, &m);
+  if (state_.moves()) {
+    m["dem_dt_s"] = dt_;
+    if (std::isfinite(fluid_limited_dt_)) m["fluid_limited_dt_s"] = fluid_limited_dt_;
+    m["flow_every_steps"] = static_cast<double>(flow_every_);
+    m["redetections"] = static_cast<double>(state_.counters.redetections);
+  } else if (dt_ > 0.0) {
+    m["dt_s"] = dt_;
+  }
+  m["steps"] = static_cast<double>(step_);
+  m["simulated_time_s"] = time_s_;
+  return m;
+}
+
+}  // namespace seep::core

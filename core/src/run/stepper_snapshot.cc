@@ -1,0 +1,228 @@
+// Stepper::TakeSnapshot / Restore: the live state the stepper owns, and each effect's own part.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include "seep/core/run/stepper.h"
+
+namespace seep::core {
+namespace {
+
+Status CheckLength(const char* field, std::size_t got, std::size_t want) {
+  if (got == want) return Status::Ok();
+  return DataLoss(
+      fmt::format("snapshot.mechanics.{}: {} values, this scene needs {}", field, got, want));
+}
+
+// `field` is the path below "snapshot." (e.g. "pressure", "mechanics.x").
+Status CheckFinite(std::string_view field, const std::vector<double>& v) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) {
+      return DataLoss(fmt::format("snapshot.{}[{}]: not finite", field, i));
+    }
+  }
+  return Status::Ok();
+}
+
+Status CheckPressures(const std::vector<double>& pressure, std::size_t nodes) {
+  if (pressure.size() != nodes) {
+    return DataLoss(fmt::format(
+        "snapshot.pressure: {} values for a network of {} nodes (not this scene's state)",
+        pressure.size(), nodes));
+  }
+  return CheckFinite("pressure", pressure);
+}
+
+// The contact pairs a network was detected from: sorted pairs of this scene's particles.
+Status CheckDetectionPairs(const MechanicsSnapshot& snap, std::size_t particles) {
+  const std::size_t contacts = snap.detection_i.size();
+  SEEP_RETURN_IF_ERROR(CheckLength("detection_j", snap.detection_j.size(), contacts));
+  SEEP_RETURN_IF_ERROR(CheckLength("detection_gap", snap.detection_gap.size(), contacts));
+  for (std::size_t c = 0; c < contacts; ++c) {
+    const std::int32_t i = snap.detection_i[c], j = snap.detection_j[c];
+    const bool sorted = c == 0 || snap.detection_i[c - 1] < i ||
+                        (snap.detection_i[c - 1] == i && snap.detection_j[c - 1] < j);
+    if (i < 0 || j <= i || static_cast<std::size_t>(j) >= particles || !sorted) {
+      return DataLoss(
+          fmt::format("snapshot.mechanics.detection_i/j[{}]: ({}, {}) is not a sorted "
+                      "pair of particles of this scene",
+                      c, i, j));
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+SimulationSnapshot Stepper::TakeSnapshot() const {
+  SimulationSnapshot snap;
+  snap.step = step_;
+  snap.time_s = time_s_;
+  const auto pressure = state_.net.flow.pressure();
+  snap.pressure.assign(pressure.begin(), pressure.end());
+  snap.worst_mass_balance_error = state_.books.worst_error;
+  snap.series = series_;
+  if (state_.moves()) SaveMechanics(&snap.mechanics.emplace());
+  return snap;
+}
+
+void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
+  const LiveState& s = state_;
+  const DemParticles& p = s.particles;
+  out->x = p.x;
+  out->y = p.y;
+  out->vx = p.vx;
+  out->vy = p.vy;
+  out->omega = p.omega;
+  out->fx = p.fx;
+  out->fy = p.fy;
+  out->torque = p.torque;
+  out->walls.clear();
+  for (const DemWall& w : s.walls) {
+    out->walls.insert(out->walls.end(), {w.px, w.py, w.nx, w.ny, w.vx, w.vy});
+  }
+  out->contacts = s.contacts->SaveState();
+  out->detection_x = s.detection_x;
+  out->detection_y = s.detection_y;
+  out->detection_i = s.net.contacts.i;
+  out->detection_j = s.net.contacts.j;
+  out->detection_gap = s.net.contacts.gap;
+  if (s.has_network) {
+    const auto apparent = s.net.flow.apparent_volume();
+    const auto aperture = s.net.flow.pipe_aperture();
+    out->apparent_volume.assign(apparent.begin(), apparent.end());
+    out->pore_volume = ReportedPoreVolumes();
+    out->aperture.assign(aperture.begin(), aperture.end());
+  }
+  out->topology_version = s.topology_version;
+  for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
+}
+
+Status Stepper::Restore(const SimulationSnapshot& snap) {
+  if (state_.moves() && !snap.mechanics) {
+    return DataLoss("snapshot.mechanics: missing; this scene's particles move");
+  }
+  if (!state_.moves() && snap.mechanics) {
+    return DataLoss("snapshot.mechanics: present, but this scene's particles do not move");
+  }
+  if (snap.step > total_steps_) {
+    return DataLoss(fmt::format("snapshot.step: {} is past this scene's last step {}", snap.step,
+                                total_steps_));
+  }
+  if (snap.series.columns != series_.columns ||
+      snap.series.values.size() % series_.columns.size() != 0) {
+    return DataLoss("snapshot.series: columns or row length differ from this scene's");
+  }
+  if (snap.mechanics) {
+    SEEP_RETURN_IF_ERROR(RestoreMechanics(*snap.mechanics, snap.pressure));
+  } else {
+    SEEP_RETURN_IF_ERROR(CheckPressures(snap.pressure, state_.net.flow.num_domains()));
+  }
+  std::copy(snap.pressure.begin(), snap.pressure.end(), state_.net.flow.mutable_pressure().begin());
+  step_ = snap.step;
+  time_s_ = snap.time_s;
+  state_.books.worst_error = snap.worst_mass_balance_error;
+  series_ = snap.series;
+  return Status::Ok();
+}
+
+Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
+                                 const std::vector<double>& pressure) {
+  LiveState& s = state_;
+  const std::size_t n = s.particles.size();
+  const std::pair<const char*, const std::vector<double>*> fields[] = {
+      {"x", &snap.x},
+      {"y", &snap.y},
+      {"vx", &snap.vx},
+      {"vy", &snap.vy},
+      {"omega", &snap.omega},
+      {"fx", &snap.fx},
+      {"fy", &snap.fy},
+      {"torque", &snap.torque},
+      {"detection_x", &snap.detection_x},
+      {"detection_y", &snap.detection_y}};
+  for (const auto& [name, values] : fields) {
+    SEEP_RETURN_IF_ERROR(CheckLength(name, values->size(), n));
+    SEEP_RETURN_IF_ERROR(CheckFinite(fmt::format("mechanics.{}", name), *values));
+  }
+  SEEP_RETURN_IF_ERROR(CheckLength("walls", snap.walls.size(), 6 * s.walls.size()));
+  SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.walls", snap.walls));
+  SEEP_RETURN_IF_ERROR(CheckDetectionPairs(snap, n));
+  // The network of the detection, rebuilt exactly as the run built it.
+  SceneNetwork net;
+  if (s.has_network) {
+    net.packing = s.net.packing;
+    net.packing.x = snap.detection_x;
+    net.packing.y = snap.detection_y;
+    net.contacts.i = snap.detection_i;
+    net.contacts.j = snap.detection_j;
+    net.contacts.gap = snap.detection_gap;
+    net.mean_radius_m = s.net.mean_radius_m;
+    net.well_x_m = s.net.well_x_m;
+    net.well_y_m = s.net.well_y_m;
+    net.well_may_vanish = s.net.well_may_vanish;
+    Result<SceneNetwork> built = ConnectSceneNetwork(scene_, std::move(net));
+    if (!built.ok()) {
+      return DataLoss("snapshot.mechanics.detection: " + built.status().message());
+    }
+    net = std::move(*built);
+    SEEP_RETURN_IF_ERROR(
+        CheckLength("apparent_volume", snap.apparent_volume.size(), net.flow.num_domains()));
+    SEEP_RETURN_IF_ERROR(
+        CheckLength("pore_volume", snap.pore_volume.size(), net.flow.num_domains()));
+    SEEP_RETURN_IF_ERROR(CheckLength("aperture", snap.aperture.size(), net.flow.num_pipes()));
+    SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.apparent_volume", snap.apparent_volume));
+    SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.pore_volume", snap.pore_volume));
+    SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.aperture", snap.aperture));
+  }
+  SEEP_RETURN_IF_ERROR(
+      CheckPressures(pressure, s.has_network ? net.flow.num_domains() : s.net.flow.num_domains()));
+  // Everything checked that can be without touching the state; the contact state checks itself
+  // before it changes anything.
+  SEEP_RETURN_IF_ERROR(s.contacts->RestoreState(snap.contacts, n, s.walls.size()));
+  DemParticles& p = s.particles;
+  p.x = snap.x;
+  p.y = snap.y;
+  p.vx = snap.vx;
+  p.vy = snap.vy;
+  p.omega = snap.omega;
+  p.fx = snap.fx;
+  p.fy = snap.fy;
+  p.torque = snap.torque;
+  for (std::size_t w = 0; w < s.walls.size(); ++w) {
+    const double* v = &snap.walls[6 * w];
+    s.walls[w] = DemWall{v[0], v[1], v[2], v[3], v[4], v[5]};
+  }
+  s.detection_x = snap.detection_x;
+  s.detection_y = snap.detection_y;
+  s.topology_version = snap.topology_version;
+  for (const auto& effect : effects_.all) effect->RestoreFrom(snap.effects);
+  if (!s.has_network) return Status::Ok();
+  s.net = std::move(net);
+  if (!std::equal(snap.aperture.begin(), snap.aperture.end(), s.net.flow.pipe_aperture().begin())) {
+    SEEP_RETURN_IF_ERROR(s.net.flow.SetApertures(snap.aperture, scene_.fluid.viscosity_pa_s));
+  }
+  // Effects bind to the network as detected (the volume updater captures its rattler correction
+  // from the detected volumes), then the volumes move on to the snapshot's.
+  SEEP_RETURN_IF_ERROR(RebindAll());
+  const std::size_t domains = s.net.domains.num_domains();
+  if (!std::equal(snap.apparent_volume.begin(), snap.apparent_volume.end(),
+                  s.net.flow.apparent_volume().begin())) {
+    std::copy(snap.apparent_volume.begin(), snap.apparent_volume.end(),
+              s.net.flow.mutable_apparent_volume().begin());
+  }
+  if (!std::equal(snap.pore_volume.begin(), snap.pore_volume.end(),
+                  s.net.flow.pore_volume().begin())) {
+    std::copy(snap.pore_volume.begin(), snap.pore_volume.end(),
+              s.net.flow.mutable_pore_volume().begin());
+  }
+  std::copy(snap.apparent_volume.begin(), snap.apparent_volume.begin() + domains,
+            s.net.domains.apparent_volume.begin());
+  std::copy(snap.pore_volume.begin(), snap.pore_volume.begin() + domains,
+            s.net.domains.pore_volume.begin());
+  return Status::Ok();
+}
+
+}  // namespace seep::core
