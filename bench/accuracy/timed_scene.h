@@ -6,8 +6,8 @@
 
 #include <optional>
 
-#include "seep/core/spec/scene_spec.h"
 #include "seep/core/run/simulation.h"
+#include "seep/core/spec/scene_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::bench {

@@ -66,7 +66,7 @@ void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
   m["outer_flow_rate_m2_per_s"] = NodeOutflow(fluxes, net.outer_node);
   m["outer_reservoir_radius_m"] = net.outer_reservoir_radius_m;
   if (net.well_domain >= 0) {
-    m["well_area_m2"] = net.domains.apparent_volume[static_cast<std::size_t>(net.well_domain)];
+    m["well_area_m2"] = net.flow.apparent_volume()[static_cast<std::size_t>(net.well_domain)];
   }
   AddPressureRange(net.flow, m);
 }
@@ -102,9 +102,10 @@ void AddNetworkMetrics(const SceneSpec& scene, const SceneNetwork& net,
   }
   double pore = 0.0;
   double apparent = 0.0;
+  const std::span<const double> apparent_volume = net.flow.apparent_volume();
   for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
     pore += pore_volume[d];
-    apparent += net.domains.apparent_volume[d];
+    apparent += apparent_volume[d];
   }
   (*m)["particle_count"] = static_cast<double>(net.packing.size());
   (*m)["contact_count"] = static_cast<double>(net.contacts.size());

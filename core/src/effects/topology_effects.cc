@@ -52,6 +52,9 @@ class RedetectionEffect final : public Effect {
 
     PressureRemapOptions options;
     options.storage = SceneStorage(*s.scene);
+    // The old domains as the flow solver stored them: their volumes moved since detection.
+    options.old_pore_volume = s.net.flow.pore_volume();
+    options.old_apparent_volume = s.net.flow.apparent_volume();
     options.unmatched_pressure = s.scene->boundary.initial_pressure_pa;
     std::vector<double> remapped;
     SEEP_ASSIGN_OR_RETURN(

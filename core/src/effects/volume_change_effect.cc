@@ -58,19 +58,14 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
           d, after[d], info.step));
     }
   }
+  // The flow network holds the live volumes (the domain network keeps those it was detected
+  // with, which the updater measures the turns from).
   std::copy(apparent_.begin(), apparent_.end(), s.net.flow.mutable_apparent_volume().begin());
-  // The domain network carries the same volumes, so that a re-detection's pressure remap
-  // weighs the old domains as the flow solver stored them.
-  std::copy(apparent_.begin(), apparent_.end(), s.net.domains.apparent_volume.begin());
   if (pore) {
     std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
-    std::copy(pore_.begin(), pore_.end(), s.net.domains.pore_volume.begin());
   } else {
     const std::span<double> kept = s.net.flow.mutable_pore_volume();
-    for (std::size_t d = 0; d < n; ++d) {
-      kept[d] = std::min(kept[d], apparent_[d]);
-      s.net.domains.pore_volume[d] = kept[d];
-    }
+    for (std::size_t d = 0; d < n; ++d) kept[d] = std::min(kept[d], apparent_[d]);
   }
   return Status::Ok();
 }

@@ -46,9 +46,10 @@ std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
   return x;
 }
 
-double StorageOf(const DomainNetwork& d, std::size_t dom, const StorageModel& storage) {
-  const double v =
-      storage.volume == StorageVolume::kPore ? d.pore_volume[dom] : d.apparent_volume[dom];
+// The storage volume per domain: `pore` or `apparent` as the model says, times its factor.
+double StorageOf(std::span<const double> pore, std::span<const double> apparent, std::size_t dom,
+                 const StorageModel& storage) {
+  const double v = storage.volume == StorageVolume::kPore ? pore[dom] : apparent[dom];
   return storage.factor * v;
 }
 
@@ -65,6 +66,15 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
   if (old_pressure.size() < n_old) {
     return InvalidArgument(fmt::format("remap.old_pressure: {} values for {} old domains",
                                        old_pressure.size(), n_old));
+  }
+  const std::span<const double> old_pore =
+      options.old_pore_volume.empty() ? old_network.pore_volume : options.old_pore_volume;
+  const std::span<const double> old_apparent = options.old_apparent_volume.empty()
+                                                   ? old_network.apparent_volume
+                                                   : options.old_apparent_volume;
+  if (old_pore.size() < n_old || old_apparent.size() < n_old) {
+    return InvalidArgument(fmt::format("remap.old_volume: {} / {} values for {} old domains",
+                                       old_pore.size(), old_apparent.size(), n_old));
   }
   if (!std::isfinite(options.unmatched_pressure)) {
     return InvalidArgument(fmt::format("remap.unmatched_pressure: must be finite (got {})",
@@ -129,7 +139,7 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
   }
   for (std::size_t k = 0; k < n_old; ++k) {
     const auto root = static_cast<std::size_t>(Find(parent, static_cast<std::int32_t>(k)));
-    const double v = StorageOf(old_network, k, options.storage);
+    const double v = StorageOf(old_pore, old_apparent, k, options.storage);
     report.old_stored += v * old_pressure[k];
     stored[root] += v * old_pressure[k];
     volume[root] += v;
@@ -151,7 +161,9 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
     } else {
       ++report.unmatched_new;
     }
-    report.new_stored += StorageOf(new_network, k, options.storage) * (*new_pressure)[k];
+    report.new_stored +=
+        StorageOf(new_network.pore_volume, new_network.apparent_volume, k, options.storage) *
+        (*new_pressure)[k];
   }
   return report;
 }

@@ -97,10 +97,11 @@ void AddLinearAnalytic(const Simulation& sim, SceneFields* f) {
   if (!steady) {
     double stored = 0.0;
     double apparent = 0.0;
+    const auto pore_volume = net.flow.pore_volume();
+    const auto apparent_volume = net.flow.apparent_volume();
     for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
-      stored += scene.solver.storage == StorageVolume::kPore ? net.domains.pore_volume[d]
-                                                             : net.domains.apparent_volume[d];
-      apparent += net.domains.apparent_volume[d];
+      stored += scene.solver.storage == StorageVolume::kPore ? pore_volume[d] : apparent_volume[d];
+      apparent += apparent_volume[d];
     }
     if (!(stored > 0.0) || !(apparent > 0.0)) return;
     const double n_s = stored / apparent;

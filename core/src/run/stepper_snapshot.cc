@@ -207,7 +207,6 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
   // Effects bind to the network as detected (the volume updater captures its rattler correction
   // from the detected volumes), then the volumes move on to the snapshot's.
   SEEP_RETURN_IF_ERROR(RebindAll());
-  const std::size_t domains = s.net.domains.num_domains();
   if (!std::equal(snap.apparent_volume.begin(), snap.apparent_volume.end(),
                   s.net.flow.apparent_volume().begin())) {
     std::copy(snap.apparent_volume.begin(), snap.apparent_volume.end(),
@@ -218,10 +217,6 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
     std::copy(snap.pore_volume.begin(), snap.pore_volume.end(),
               s.net.flow.mutable_pore_volume().begin());
   }
-  std::copy(snap.apparent_volume.begin(), snap.apparent_volume.begin() + domains,
-            s.net.domains.apparent_volume.begin());
-  std::copy(snap.pore_volume.begin(), snap.pore_volume.begin() + domains,
-            s.net.domains.pore_volume.begin());
   return Status::Ok();
 }
 

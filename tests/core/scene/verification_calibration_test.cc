@@ -13,8 +13,8 @@
 #include "seep/core/flow/flow_diagnostics.h"
 #include "seep/core/flow/steady_state_solver.h"
 #include "seep/core/geometry/random_packing.h"
-#include "seep/core/reference/affine_permeability.h"
 #include "seep/core/network/scene_network.h"
+#include "seep/core/reference/affine_permeability.h"
 
 namespace seep::core {
 namespace {

@@ -16,9 +16,9 @@
 #include "scene_test_util.h"
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/flow/steady_state_solver.h"
+#include "seep/core/network/scene_network.h"
 #include "seep/core/reference/radial_profile.h"
 #include "seep/core/run/run_scene.h"
-#include "seep/core/network/scene_network.h"
 
 namespace seep::core {
 namespace {

@@ -37,6 +37,10 @@ namespace seep::core {
 struct PressureRemapOptions {
   StorageModel storage;             // which volume weighs the mean (V_p or V_d, times factor)
   double unmatched_pressure = 0.0;  // for new domains with no old counterpart, Pa
+  // The old domains' current V_p and V_d (at least one value per old domain; e.g. a live flow
+  // network's, whose particles moved since the old network was detected). Empty = the volumes
+  // the old DomainNetwork was detected with.
+  std::span<const double> old_pore_volume, old_apparent_volume;
 };
 
 struct PressureRemapReport {

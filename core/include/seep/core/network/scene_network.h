@@ -56,7 +56,10 @@ struct ReservoirPipe {
 struct SceneNetwork {
   Packing packing;
   ContactList contacts;
+  // The detection: loops, pipes and the volumes the domains were detected with.
   DomainNetwork domains;
+  // The live coefficients: volumes (which move with the particles), apertures, pressures. Read
+  // volumes here, never from `domains`, once the run has started.
   FlowNetwork flow;
   // Per FlowNetwork pipe: the contact it crosses (interior pipes first, in DomainNetwork order,
   // then the boundary pipes), so callers can refresh apertures from contact forces and gaps.

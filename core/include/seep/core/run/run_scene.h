@@ -2,8 +2,8 @@
 // and callers that need no checkpoints. The job service drives Simulation itself.
 #pragma once
 
-#include "seep/core/spec/scene_spec.h"
 #include "seep/core/run/simulation.h"
+#include "seep/core/spec/scene_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
