@@ -61,20 +61,44 @@ class CellGrid {
     bool periodic = false;
     double period = 0.0;
   };
-  // The up to 3 cells around `c` along one axis; returns how many.
-  static int Around(std::int32_t c, const Axis& axis, std::int32_t out[3]) {
-    if (axis.periodic) {
-      out[0] = c == 0 ? axis.cells - 1 : c - 1;
-      out[1] = c;
-      out[2] = c + 1 == axis.cells ? 0 : c + 1;
-      return 3;
+  // The cells around point a as runs of consecutive cells (a row's cells are consecutive except
+  // where a periodic x wraps), given as item ranges [begin, end): fewer, longer loops than one
+  // per cell. Returns how many (<= 6).
+  int NeighbourRanges(std::int32_t a, std::int32_t begin[6], std::int32_t end[6]) const {
+    const std::int32_t nx = ax_.cells, ny = ay_.cells;
+    const std::int32_t ca = cell_of_[static_cast<std::size_t>(a)];
+    const std::int32_t cx = ca % nx, cy = ca / nx;
+    std::int32_t rows[3];
+    int nrows = 0;
+    if (ay_.periodic) {
+      rows[nrows++] = cy == 0 ? ny - 1 : cy - 1;
+      rows[nrows++] = cy;
+      rows[nrows++] = cy + 1 == ny ? 0 : cy + 1;
+    } else {
+      for (std::int32_t r = std::max(cy - 1, 0); r <= std::min(cy + 1, ny - 1); ++r)
+        rows[nrows++] = r;
     }
+    // Column runs [lo, hi] within a row.
+    std::int32_t lo[2], hi[2];
+    int runs = 1;
+    lo[0] = std::max(cx - 1, 0);
+    hi[0] = std::min(cx + 1, nx - 1);
+    if (ax_.periodic && cx == 0) lo[1] = hi[1] = nx - 1, runs = 2;
+    if (ax_.periodic && cx + 1 == nx) lo[1] = hi[1] = 0, runs = 2;
     int k = 0;
-    for (std::int32_t d = std::max(c - 1, 0); d <= std::min(c + 1, axis.cells - 1); ++d) {
-      out[k++] = d;
+    for (int r = 0; r < nrows; ++r) {
+      const std::size_t row = static_cast<std::size_t>(rows[r]) * static_cast<std::size_t>(nx);
+      for (int q = 0; q < runs; ++q) {
+        begin[k] = cell_start_[row + static_cast<std::size_t>(lo[q])];
+        end[k] = cell_start_[row + static_cast<std::size_t>(hi[q]) + 1];
+        ++k;
+      }
     }
     return k;
   }
+  template <bool kWrap, typename Visit>
+  void VisitRanges(std::int32_t a, const std::int32_t begin[6], const std::int32_t end[6],
+                   int ranges, Visit& visit) const;
 
   const double* x_ = nullptr;
   const double* y_ = nullptr;
@@ -87,29 +111,37 @@ class CellGrid {
 
 template <typename Visit>
 void CellGrid::ForEachNeighbour(std::int32_t a, Visit&& visit) const {
-  const std::size_t sa = static_cast<std::size_t>(a);
-  const std::int32_t nx = ax_.cells;
-  const std::int32_t ca = cell_of_[sa];
-  std::int32_t cols[3], rows[3];
-  const int ncols = Around(ca % nx, ax_, cols);
-  const int nrows = Around(ca / nx, ay_, rows);
+  std::int32_t begin[6], end[6];
+  const int ranges = NeighbourRanges(a, begin, end);
+  // Open grids skip the minimum-image arithmetic altogether (it is the hot loop of detection).
+  if (ax_.periodic || ay_.periodic) {
+    VisitRanges<true>(a, begin, end, ranges, visit);
+  } else {
+    VisitRanges<false>(a, begin, end, ranges, visit);
+  }
+}
+
+template <bool kWrap, typename Visit>
+void CellGrid::VisitRanges(std::int32_t a, const std::int32_t begin[6], const std::int32_t end[6],
+                           int ranges, Visit& visit) const {
+  const double* x = x_;
+  const double* y = y_;
+  const std::int32_t* items = cell_items_.data();
   const bool wrap_x = ax_.periodic, wrap_y = ay_.periodic;
   const double lx = ax_.period, ly = ay_.period;
-  const double xa = x_[sa], ya = y_[sa];
-  for (int r = 0; r < nrows; ++r) {
-    for (int q = 0; q < ncols; ++q) {
-      const std::size_t c = static_cast<std::size_t>(rows[r]) * static_cast<std::size_t>(nx) +
-                            static_cast<std::size_t>(cols[q]);
-      for (std::int32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
-        const std::int32_t b = cell_items_[static_cast<std::size_t>(s)];
-        if (b <= a) continue;
-        double dx = x_[static_cast<std::size_t>(b)] - xa;
-        double dy = y_[static_cast<std::size_t>(b)] - ya;
+  const double xa = x[a], ya = y[a];
+  for (int k = 0; k < ranges; ++k) {
+    for (std::int32_t s = begin[k]; s < end[k]; ++s) {
+      const std::int32_t b = items[s];
+      if (b <= a) continue;
+      double dx = x[b] - xa;
+      double dy = y[b] - ya;
+      if constexpr (kWrap) {
         // Rounded, not one period off by cell: the points need not be wrapped into the period.
         if (wrap_x) dx -= lx * std::round(dx / lx);
         if (wrap_y) dy -= ly * std::round(dy / ly);
-        visit(b, dx, dy);
       }
+      visit(b, dx, dy);
     }
   }
 }
