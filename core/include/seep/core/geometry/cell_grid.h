@@ -43,8 +43,8 @@ struct CellGridOptions {
 class CellGrid {
  public:
   // Bins the points (x and y of equal length < 2^31, finite). InvalidArgument when the options
-  // are bad; a periodic axis too short for 3 cells says "period <p> ... reach <h>" so that
-  // callers can name their own setting.
+  // are bad; the message for a periodic axis too short for 3 cells ("the periodic length ...")
+  // carries no prefix, so that callers can name their own setting.
   Status Build(std::span<const double> x, std::span<const double> y,
                const CellGridOptions& options);
 
@@ -64,38 +64,7 @@ class CellGrid {
   // The cells around point a as runs of consecutive cells (a row's cells are consecutive except
   // where a periodic x wraps), given as item ranges [begin, end): fewer, longer loops than one
   // per cell. Returns how many (<= 6).
-  int NeighbourRanges(std::int32_t a, std::int32_t begin[6], std::int32_t end[6]) const {
-    const std::int32_t nx = ax_.cells, ny = ay_.cells;
-    const std::int32_t ca = cell_of_[static_cast<std::size_t>(a)];
-    const std::int32_t cx = ca % nx, cy = ca / nx;
-    std::int32_t rows[3];
-    int nrows = 0;
-    if (ay_.periodic) {
-      rows[nrows++] = cy == 0 ? ny - 1 : cy - 1;
-      rows[nrows++] = cy;
-      rows[nrows++] = cy + 1 == ny ? 0 : cy + 1;
-    } else {
-      for (std::int32_t r = std::max(cy - 1, 0); r <= std::min(cy + 1, ny - 1); ++r)
-        rows[nrows++] = r;
-    }
-    // Column runs [lo, hi] within a row.
-    std::int32_t lo[2], hi[2];
-    int runs = 1;
-    lo[0] = std::max(cx - 1, 0);
-    hi[0] = std::min(cx + 1, nx - 1);
-    if (ax_.periodic && cx == 0) lo[1] = hi[1] = nx - 1, runs = 2;
-    if (ax_.periodic && cx + 1 == nx) lo[1] = hi[1] = 0, runs = 2;
-    int k = 0;
-    for (int r = 0; r < nrows; ++r) {
-      const std::size_t row = static_cast<std::size_t>(rows[r]) * static_cast<std::size_t>(nx);
-      for (int q = 0; q < runs; ++q) {
-        begin[k] = cell_start_[row + static_cast<std::size_t>(lo[q])];
-        end[k] = cell_start_[row + static_cast<std::size_t>(hi[q]) + 1];
-        ++k;
-      }
-    }
-    return k;
-  }
+  int NeighbourRanges(std::int32_t a, std::int32_t begin[6], std::int32_t end[6]) const;
   template <bool kWrap, typename Visit>
   void VisitRanges(std::int32_t a, const std::int32_t begin[6], const std::int32_t end[6],
                    int ranges, Visit& visit) const;
@@ -108,6 +77,40 @@ class CellGrid {
   std::vector<std::int32_t> cell_items_;  // point ids grouped by cell, ascending within a cell
   std::vector<std::int32_t> fill_;        // counting-sort cursor
 };
+
+inline int CellGrid::NeighbourRanges(std::int32_t a, std::int32_t begin[6],
+                                     std::int32_t end[6]) const {
+  const std::int32_t nx = ax_.cells, ny = ay_.cells;
+  const std::int32_t ca = cell_of_[static_cast<std::size_t>(a)];
+  const std::int32_t cx = ca % nx, cy = ca / nx;
+  std::int32_t rows[3];
+  int nrows = 0;
+  if (ay_.periodic) {
+    rows[nrows++] = cy == 0 ? ny - 1 : cy - 1;
+    rows[nrows++] = cy;
+    rows[nrows++] = cy + 1 == ny ? 0 : cy + 1;
+  } else {
+    for (std::int32_t r = std::max(cy - 1, 0); r <= std::min(cy + 1, ny - 1); ++r)
+      rows[nrows++] = r;
+  }
+  // Column runs [lo, hi] within a row.
+  std::int32_t lo[2], hi[2];
+  int runs = 1;
+  lo[0] = std::max(cx - 1, 0);
+  hi[0] = std::min(cx + 1, nx - 1);
+  if (ax_.periodic && cx == 0) lo[1] = hi[1] = nx - 1, runs = 2;
+  if (ax_.periodic && cx + 1 == nx) lo[1] = hi[1] = 0, runs = 2;
+  int k = 0;
+  for (int r = 0; r < nrows; ++r) {
+    const std::size_t row = static_cast<std::size_t>(rows[r]) * static_cast<std::size_t>(nx);
+    for (int q = 0; q < runs; ++q) {
+      begin[k] = cell_start_[row + static_cast<std::size_t>(lo[q])];
+      end[k] = cell_start_[row + static_cast<std::size_t>(hi[q]) + 1];
+      ++k;
+    }
+  }
+  return k;
+}
 
 template <typename Visit>
 void CellGrid::ForEachNeighbour(std::int32_t a, Visit&& visit) const {
