@@ -105,100 +105,28 @@ Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff
   cand_j_.clear();
   const std::size_t n = p.size();
   if (n == 0) return Status::Ok();
-  const bool periodic = settings_.periodic_x;
-  const double lx = settings_.lx;
-  double rmax = 0.0, xmin = p.x[0], xmax = p.x[0], ymin = p.y[0], ymax = p.y[0];
+  double rmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i])) {
       return FailedPrecondition("dem.contact: particle " + std::to_string(i) +
                                 " has a non-finite position (the run has diverged)");
     }
     rmax = std::max(rmax, p.radius[i]);
-    xmin = std::min(xmin, p.x[i]);
-    xmax = std::max(xmax, p.x[i]);
-    ymin = std::min(ymin, p.y[i]);
-    ymax = std::max(ymax, p.y[i]);
   }
-  // Any pair closer than `cutoff` has centre distance < 2 rmax + cutoff = h: a 3x3 block of cells
-  // at least h wide holds all of them.
-  const double h = 2.0 * rmax + cutoff;
-  std::int64_t nx = 0;
-  double hx = h;
-  if (periodic) {
-    nx = static_cast<std::int64_t>(std::floor(lx / h));
-    if (nx < 3) {
-      return InvalidArgument(
-          "dem.contact.lx: the periodic length " + std::to_string(lx) +
-          " must hold at least 3 cells of 2 R_max + cutoff = " + std::to_string(h));
-    }
-    hx = lx / static_cast<double>(nx);
-    xmin = settings_.x0;
-  } else {
-    nx = static_cast<std::int64_t>(std::floor((xmax - xmin) / h)) + 1;
-  }
-  std::int64_t ny = static_cast<std::int64_t>(std::floor((ymax - ymin) / h)) + 1;
-  double hy = h;
-  // A particle far from the others must not blow up the grid: cap the cell count (larger cells
-  // are still correct, only slower).
-  const std::int64_t max_cells = 4 * static_cast<std::int64_t>(n) + 64;
-  if (nx > max_cells) nx = max_cells, hx = (xmax - xmin) / static_cast<double>(nx) * (1 + 1e-12);
-  if (nx * ny > max_cells) {
-    ny = std::max<std::int64_t>(1, max_cells / nx);
-    hy = std::max(h, (ymax - ymin) / static_cast<double>(ny) * (1.0 + 1e-12));
-    ny = static_cast<std::int64_t>(std::floor((ymax - ymin) / hy)) + 1;
-  }
-  if (!periodic && hx < h) hx = h;
-  const std::int64_t cells = nx * ny;
-  cell_of_.resize(n);
-  cell_start_.assign(static_cast<std::size_t>(cells) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::int64_t cx = static_cast<std::int64_t>(std::floor((p.x[i] - xmin) / hx));
-    if (periodic) {
-      cx %= nx;
-      if (cx < 0) cx += nx;
-    } else {
-      cx = std::clamp<std::int64_t>(cx, 0, nx - 1);
-    }
-    const std::int64_t cy =
-        std::clamp<std::int64_t>(static_cast<std::int64_t>((p.y[i] - ymin) / hy), 0, ny - 1);
-    cell_of_[i] = static_cast<std::int32_t>(cy * nx + cx);
-    ++cell_start_[static_cast<std::size_t>(cell_of_[i]) + 1];
-  }
-  for (std::int64_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_items_.resize(n);
-  {
-    std::vector<std::int32_t>& fill = row_candidates_;  // reused as the fill cursor
-    fill.assign(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cell_items_[fill[cell_of_[i]]++] = static_cast<int>(i);
+  // Any pair closer than `cutoff` has centre distance < 2 rmax + cutoff.
+  CellGridOptions grid_options;
+  grid_options.reach = 2.0 * rmax + cutoff;
+  grid_options.x = {settings_.periodic_x, settings_.x0, settings_.lx};
+  if (Status s = grid_.Build(p.x, p.y, grid_options); !s.ok()) {
+    return InvalidArgument("dem.contact.lx: " + s.message());
   }
   for (std::size_t i = 0; i < n; ++i) {
     row_candidates_.clear();
-    const std::int64_t c = cell_of_[i];
-    const std::int64_t cx = c % nx, cy = c / nx;
-    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i];
-    for (std::int64_t oy = -1; oy <= 1; ++oy) {
-      const std::int64_t yy = cy + oy;
-      if (yy < 0 || yy >= ny) continue;
-      for (std::int64_t ox = -1; ox <= 1; ++ox) {
-        std::int64_t xx = cx + ox;
-        if (periodic) {
-          xx = (xx + nx) % nx;
-        } else if (xx < 0 || xx >= nx) {
-          continue;
-        }
-        const std::int64_t cc = yy * nx + xx;
-        for (std::int32_t s = cell_start_[cc]; s < cell_start_[cc + 1]; ++s) {
-          const std::int32_t j = cell_items_[s];
-          if (j <= static_cast<std::int32_t>(i)) continue;
-          // Any distance of images here (BondTouchingPairs may see unwrapped positions).
-          double dx = p.x[j] - xi;
-          if (periodic) dx -= lx * std::round(dx / lx);
-          const double dy = p.y[j] - yi;
-          const double gap = std::sqrt(dx * dx + dy * dy) - ri - p.radius[j];
-          if (gap < cutoff) row_candidates_.push_back(j);
-        }
-      }
-    }
+    const double ri = p.radius[i];
+    grid_.ForEachNeighbour(static_cast<std::int32_t>(i), [&](std::int32_t j, double dx, double dy) {
+      const double gap = std::sqrt(dx * dx + dy * dy) - ri - p.radius[static_cast<std::size_t>(j)];
+      if (gap < cutoff) row_candidates_.push_back(j);
+    });
     std::sort(row_candidates_.begin(), row_candidates_.end());
     for (std::int32_t j : row_candidates_) {
       cand_i_.push_back(static_cast<std::int32_t>(i));
@@ -621,8 +549,8 @@ std::size_t DemContactForces::MemoryBytes() const {
          Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
          Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +
          Bytes(wall_loads_) + Bytes(ref_x_) + Bytes(ref_y_) + Bytes(ref_wall_x_) +
-         Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) + Bytes(cell_start_) +
-         Bytes(cell_items_) + Bytes(cell_of_) + Bytes(row_candidates_);
+         Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) + grid_.MemoryBytes() +
+         Bytes(row_candidates_);
 }
 
 }  // namespace seep::core

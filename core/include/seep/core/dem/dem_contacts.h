@@ -47,6 +47,7 @@
 #include "seep/core/dem/dem_wall.h"
 #include "seep/core/dem/parallel_bond.h"
 #include "seep/core/dem/servo_wall.h"
+#include "seep/core/geometry/cell_grid.h"
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/status.h"
 
@@ -235,7 +236,7 @@ class DemContactForces {
 
   // Rebuild scratch (kept to avoid reallocations).
   std::vector<std::int32_t> cand_i_, cand_j_;
-  std::vector<std::int32_t> cell_start_, cell_items_, cell_of_;
+  CellGrid grid_;
   std::vector<std::int32_t> row_candidates_;
 };
 

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "seep/core/geometry/cell_grid.h"
 #include "seep/core/geometry/packing.h"
 #include "seep/core/status.h"
 
@@ -44,9 +45,7 @@ class ContactDetector {
   std::size_t MemoryBytes() const;
 
  private:
-  std::vector<std::int32_t> cell_of_;     // cell index of each particle
-  std::vector<std::int32_t> cell_start_;  // CSR offsets into cell_items_, size cells + 1
-  std::vector<std::int32_t> cell_items_;  // particle ids grouped by cell, ascending within a cell
+  CellGrid grid_;
   std::vector<std::int32_t> candidates_;  // per-particle scratch: neighbours j > i
   std::vector<double> candidate_gaps_;    // their gaps
 };
