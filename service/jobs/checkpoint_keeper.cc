@@ -4,9 +4,9 @@
 
 #include <system_error>
 
-#include "codec/checkpoint_io.h"
 #include "codec/simulation_state_codec.h"
 #include "jobs/wall_clock.h"
+#include "store/checkpoint_io.h"
 
 namespace seep::service {
 CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,

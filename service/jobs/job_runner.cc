@@ -5,28 +5,15 @@
 #include <chrono>
 #include <exception>
 
-#include "codec/checkpoint_io.h"
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
 #include "jobs/wall_clock.h"
 #include "seep/core/run/simulation.h"
 #include "seep/core/threads.h"
 #include "seep/v1/scene.pb.h"
+#include "store/sha256.h"
 
 namespace seep::service {
-namespace {
-
-// Lower-case hex of the SHA-256 of `bytes`.
-std::string HexSha256(std::string_view bytes) {
-  const std::string raw = Sha256(bytes);
-  std::string hex;
-  hex.reserve(raw.size() * 2);
-  for (const unsigned char c : raw) hex += fmt::format("{:02x}", c);
-  return hex;
-}
-
-}  // namespace
-
 JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
                      std::shared_ptr<spdlog::logger> logger)
     : store_(store), hub_(hub), options_(std::move(options)), logger_(std::move(logger)) {}

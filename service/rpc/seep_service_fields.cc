@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "codec/checkpoint_io.h"
 #include "codec/fields_codec.h"
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
@@ -17,6 +16,7 @@
 #include "rpc/status_mapping.h"
 #include "seep/core/run/scene_fields.h"
 #include "seep/core/run/simulation.h"
+#include "store/checkpoint_io.h"
 
 namespace seep::service {
 namespace {

@@ -1,4 +1,4 @@
-#include "codec/checkpoint_io.h"
+#include "store/checkpoint_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

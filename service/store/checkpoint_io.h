@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "seep/core/status.h"
+#include "sha256.h"
 
 namespace seep::service {
 
@@ -34,9 +35,6 @@ struct CheckpointFile {
   CheckpointMeta meta;
   std::string state;
 };
-
-// 32 raw bytes.
-std::string Sha256(std::string_view bytes);
 
 core::Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
                                  std::string_view state);
