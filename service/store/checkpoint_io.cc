@@ -158,22 +158,4 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
   return file;
 }
 
-core::Result<NewestValidCheckpoint> ReadNewestValidCheckpoint(
-    const std::vector<std::filesystem::path>& newest_first) {
-  NewestValidCheckpoint found;
-  for (const auto& path : newest_first) {
-    auto file = ReadCheckpointFile(path);
-    if (file.ok()) {
-      found.file = std::move(*file);
-      found.path = path;
-      return found;
-    }
-    found.skipped.push_back(path.filename().string() + ": " + file.status().ToString());
-  }
-  std::string reasons;
-  for (const auto& s : found.skipped) reasons += "; " + s;
-  return core::NotFound(fmt::format("checkpoint: no valid checkpoint among {} candidate(s){}",
-                                    newest_first.size(), reasons));
-}
-
 }  // namespace seep::service
