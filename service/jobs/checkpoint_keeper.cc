@@ -69,6 +69,16 @@ core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
 core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   if (!enabled()) return core::Status::Ok();
   const auto start = std::chrono::steady_clock::now();
+  return WriteState(sim, SerializeSimulationState(sim.TakeSnapshot()), start);
+}
+
+core::Status CheckpointKeeper::Write(const core::Simulation& sim, std::string_view state) {
+  if (!enabled()) return core::Status::Ok();
+  return WriteState(sim, state, std::chrono::steady_clock::now());
+}
+
+core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::string_view state,
+                                          std::chrono::steady_clock::time_point start) {
   last_step_ = sim.step();
   last_time_ = start;
   const std::filesystem::path dir = policy_.dir / job_.id;
@@ -81,7 +91,6 @@ core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   meta.scene_sha256 = scene_sha256_;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
-  const std::string state = SerializeSimulationState(sim.TakeSnapshot());
   if (auto s = WriteCheckpointFile(path, meta, state); !s.ok()) {
     log_->warn("checkpoint at step {} not written: {}", sim.step(), s.ToString());
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));
