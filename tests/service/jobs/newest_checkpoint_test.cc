@@ -2,9 +2,7 @@
 // foreign or unrestorable file is reported and passed over, and none usable is nullopt.
 #include "jobs/newest_checkpoint.h"
 
-#include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,29 +12,16 @@
 
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
+#include "test_support.h"
 
 namespace seep::service {
 namespace {
 
-constexpr const char* kScene = R"pb(
-  name: "short-transient"
-  packing { lattice { kind: LATTICE_KIND_SQUARE columns: 11 rows: 3 radius_m: 1e-3 } }
-  fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
-  aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
-  boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 outlet_pressure_pa: 0 }
-  solver { kind: SOLVER_KIND_EXPLICIT storage: STORAGE_VOLUME_PORE dt_factor: 0.9 end_time_s: 1e-4 }
-)pb";
-
 class NewestCheckpointTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-newest-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-    v1::Scene scene;
-    ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(kScene, &scene));
+    dir_ = testing::FreshTestDir("newest");
+    const v1::Scene scene = testing::ExampleScene("transient_1d.textproto");
     job_.id = "j-newest";
     ASSERT_TRUE(scene.SerializeToString(&job_.scene));
     auto spec = SceneFromProto(scene);

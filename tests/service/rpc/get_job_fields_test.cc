@@ -2,11 +2,10 @@
 // through the common wrapper (a bad token is refused before any work), its physics runs as one
 // task of the PhysicsPool (the pool whose threads carry the job's thread budget), and a call that
 // passes its deadline while the pool is busy gives up without its task ever running.
-#include <google/protobuf/text_format.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <spdlog/sinks/null_sink.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -19,28 +18,17 @@
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "store/job_store.h"
+#include "test_support.h"
 
 namespace seep::service {
 namespace {
 
 constexpr const char* kToken = "fields-test-token";
-constexpr const char* kScene = R"pb(
-  name: "fields-steady"
-  packing { lattice { kind: LATTICE_KIND_SQUARE columns: 8 rows: 4 radius_m: 1e-3 } }
-  fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
-  aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
-  boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 outlet_pressure_pa: 0 }
-  solver { kind: SOLVER_KIND_STEADY }
-)pb";
 
 class GetJobFieldsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-fields-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    dir_ = testing::FreshTestDir("fields");
     auto store = JobStore::Open((dir_ / "seep.db").string());
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
@@ -90,7 +78,7 @@ class GetJobFieldsTest : public ::testing::Test {
   // Submits the steady scene and waits until it has SUCCEEDED (its final checkpoint written).
   std::string RunJob() {
     v1::SubmitJobRequest submit;
-    EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(kScene, submit.mutable_scene()));
+    *submit.mutable_scene() = testing::ExampleScene("darcy_square_lattice.textproto");
     v1::SubmitJobResponse submitted;
     {
       grpc::ClientContext ctx;
@@ -156,11 +144,17 @@ TEST_F(GetJobFieldsTest, RunsItsPhysicsAsOneTaskOfThePhysicsPool) {
   const grpc::Status s = Fields(id, &ctx, &out);
   ASSERT_TRUE(s.ok()) << s.error_message();
   EXPECT_EQ(out.job_id(), id);
-  EXPECT_EQ(out.fields().particle_x_m_size(), 8 * 4);
+  EXPECT_EQ(out.fields().particle_x_m_size(), 60 * 40);
   EXPECT_GT(out.fields().domain_pressure_pa_size(), 0);
   ASSERT_EQ(out.available_steps_size(), 1);
   EXPECT_EQ(out.step(), out.available_steps(0));
   EXPECT_EQ(physics_->tasks_run(), 1u);
+  // The pool's thread, the one that ran it, runs the core's loops on the job's budget.
+  int threads = 0;
+  auto probe = physics_->Post([&threads] { threads = omp_get_max_threads(); });
+  ASSERT_NE(probe, nullptr);
+  ASSERT_TRUE(probe->WaitFor(std::chrono::milliseconds(10000)));
+  EXPECT_EQ(threads, 2);
 
   // Checks that need no physics answer on the handler thread, with the same messages as ever.
   grpc::ClientContext missing;
@@ -171,7 +165,7 @@ TEST_F(GetJobFieldsTest, RunsItsPhysicsAsOneTaskOfThePhysicsPool) {
   EXPECT_EQ(bad_step.error_message(), "step: job " + id + " has no checkpoint at step " +
                                           std::to_string(out.step() + 7) +
                                           "; available steps: " + std::to_string(out.step()));
-  EXPECT_EQ(physics_->tasks_run(), 1u);
+  EXPECT_EQ(physics_->tasks_run(), 2u);
 }
 
 TEST_F(GetJobFieldsTest, ACallPastItsDeadlineGivesUpAndItsTaskNeverRuns) {

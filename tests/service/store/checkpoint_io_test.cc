@@ -1,24 +1,19 @@
 #include "store/checkpoint_io.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "test_support.h"
 
 namespace seep::service {
 namespace {
 
 class CheckpointIoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-ckpt-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = testing::FreshTestDir("ckpt-test"); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   static CheckpointMeta Meta(std::uint64_t step) {
