@@ -23,6 +23,7 @@
 #include "codec/scene_codec.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
+#include "jobs/physics_pool.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "seep/core/log.h"
@@ -219,8 +220,11 @@ int Run(const Options& options) {
       std::chrono::milliseconds(static_cast<std::int64_t>(options.checkpoint_interval_s * 1000));
   runner_options.checkpoints.keep = options.checkpoints_kept;
   seep::service::JobRunner runner(**store, hub, runner_options, logger);
+  // GetJobFields' physics: one request at a time with a job's thread budget, a few more waiting.
+  seep::service::PhysicsPool physics(/*threads=*/1, runner_options.threads_per_job,
+                                     /*max_waiting=*/16);
   seep::service::SeepServiceImpl service(
-      **store, hub, SEEP_BUILD_ID,
+      **store, hub, physics, SEEP_BUILD_ID,
       {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger,
       {authenticated ? &**token : nullptr, options.max_scene_bytes});
 

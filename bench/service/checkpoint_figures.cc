@@ -12,11 +12,11 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "codec/checkpoint_io.h"
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
 #include "jobs/checkpoint_keeper.h"
 #include "service_bench.h"
+#include "store/checkpoint_io.h"
 #include "store/job_store.h"
 
 namespace seep::bench {

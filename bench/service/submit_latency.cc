@@ -111,8 +111,9 @@ bool SubmitToRunningLatency(const BenchOptions& options) {
   runner_options.checkpoints.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.default_interval_s * 1000.0));
   service::JobRunner runner(store, hub, runner_options, logger);
+  service::PhysicsPool physics(1, 1, 16);
   service::SeepServiceImpl service_impl(
-      store, hub, options.build_id,
+      store, hub, physics, options.build_id,
       {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger);
   grpc::ServerBuilder builder;
   int port = 0;

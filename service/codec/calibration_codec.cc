@@ -10,8 +10,8 @@
 #include <climits>
 #include <map>
 
-#include "codec/checkpoint_io.h"
 #include "codec/scene_codec.h"
+#include "store/sha256.h"
 
 namespace seep::service {
 namespace {
@@ -156,11 +156,7 @@ std::string CalibrationSetupSha256(const v1::Calibration& calibration) {
     coded.SetSerializationDeterministic(true);
     setup.SerializeToCodedStream(&coded);
   }
-  const std::string raw = Sha256(bytes);
-  std::string hex;
-  hex.reserve(raw.size() * 2);
-  for (const unsigned char ch : raw) hex += fmt::format("{:02x}", ch);
-  return hex;
+  return HexSha256(bytes);
 }
 
 void CalibrationRecordToProto(const StoredCalibration& stored, v1::CalibrationRecord* out) {

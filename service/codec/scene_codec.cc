@@ -159,7 +159,7 @@ Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
 
 }  // namespace
 
-Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
+Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
   core::SceneSpec spec;
   spec.name = scene.name();
   SEEP_ASSIGN_OR_RETURN(spec.packing.source, PackingFromProto(scene.packing()));
@@ -173,6 +173,11 @@ Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
     SEEP_RETURN_IF_ERROR(
         AppendEffectFromProto(scene.effects(k), static_cast<std::size_t>(k), &spec.effects));
   }
+  return spec;
+}
+
+Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
+  SEEP_ASSIGN_OR_RETURN(core::SceneSpec spec, DecodeScene(scene));
   SEEP_RETURN_IF_ERROR(core::ValidateScene(spec));
   return spec;
 }

@@ -4,9 +4,10 @@
 
 #include <system_error>
 
-#include "codec/checkpoint_io.h"
 #include "codec/simulation_state_codec.h"
+#include "jobs/newest_checkpoint.h"
 #include "jobs/wall_clock.h"
+#include "store/checkpoint_io.h"
 
 namespace seep::service {
 CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,
@@ -33,47 +34,27 @@ std::optional<std::uint64_t> CheckpointKeeper::RestoreNewest(core::Simulation& s
                records.status().ToString());
     return std::nullopt;
   }
-  for (const CheckpointRecord& record : *records) {
-    const std::string name = std::filesystem::path(record.path).filename().string();
-    const auto skip = [&](const std::string& why) {
-      log_->warn("checkpoint {} (step {}) skipped: {}", name, record.step, why);
-      Event("CHECKPOINT_SKIPPED", fmt::format("{} (step {}): {}", name, record.step, why));
-    };
-    auto file = ReadCheckpointFile(record.path);
-    if (!file.ok()) {
-      skip(file.status().ToString());
-      continue;
-    }
-    if (file->meta.scene_sha256 != scene_sha256_ || file->meta.job_id != job_.id) {
-      skip("it belongs to another job or scene");
-      continue;
-    }
-    auto snapshot = ParseSimulationState(file->state);
-    if (!snapshot.ok()) {
-      skip(snapshot.status().ToString());
-      continue;
-    }
-    if (auto restored = sim.Restore(*snapshot); !restored.ok()) {
-      skip(restored.ToString());
-      continue;
-    }
-    if (file->meta.build_id != build_id_) {
-      const std::string note = fmt::format(
-          "checkpoint written by build {}, continued by build {}: bit-identity with an "
-          "uninterrupted run is promised only for the same build",
-          file->meta.build_id, build_id_);
-      log_->warn("{}", note);
-      Event("BUILD_CHANGED", note);
-    }
-    last_step_ = snapshot->step;
-    last_time_ = std::chrono::steady_clock::now();
-    log_->info("resumed from checkpoint {} at step {} (t = {} s)", name, snapshot->step,
-               snapshot->time_s);
-    Event("RESUMED",
-          fmt::format("from {} at step {} of {}", name, snapshot->step, sim.total_steps()));
-    return snapshot->step;
+  const auto restored = LoadNewestCheckpoint(job_, *records, sim, [&](const SkippedCheckpoint& s) {
+    const std::string name = std::filesystem::path(s.record.path).filename().string();
+    const std::string why = s.foreign ? "it belongs to another job or scene" : s.why.ToString();
+    log_->warn("checkpoint {} (step {}) skipped: {}", name, s.record.step, why);
+    Event("CHECKPOINT_SKIPPED", fmt::format("{} (step {}): {}", name, s.record.step, why));
+  });
+  if (!restored) return std::nullopt;
+  const std::string name = std::filesystem::path(restored->record.path).filename().string();
+  if (restored->meta.build_id != build_id_) {
+    const std::string note = fmt::format(
+        "checkpoint written by build {}, continued by build {}: bit-identity with an "
+        "uninterrupted run is promised only for the same build",
+        restored->meta.build_id, build_id_);
+    log_->warn("{}", note);
+    Event("BUILD_CHANGED", note);
   }
-  return std::nullopt;
+  last_step_ = sim.step();
+  last_time_ = std::chrono::steady_clock::now();
+  log_->info("resumed from checkpoint {} at step {} (t = {} s)", name, sim.step(), sim.time_s());
+  Event("RESUMED", fmt::format("from {} at step {} of {}", name, sim.step(), sim.total_steps()));
+  return sim.step();
 }
 
 core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
@@ -88,6 +69,16 @@ core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
 core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   if (!enabled()) return core::Status::Ok();
   const auto start = std::chrono::steady_clock::now();
+  return WriteState(sim, SerializeSimulationState(sim.TakeSnapshot()), start);
+}
+
+core::Status CheckpointKeeper::Write(const core::Simulation& sim, std::string_view state) {
+  if (!enabled()) return core::Status::Ok();
+  return WriteState(sim, state, std::chrono::steady_clock::now());
+}
+
+core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::string_view state,
+                                          std::chrono::steady_clock::time_point start) {
   last_step_ = sim.step();
   last_time_ = start;
   const std::filesystem::path dir = policy_.dir / job_.id;
@@ -100,7 +91,6 @@ core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   meta.scene_sha256 = scene_sha256_;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
-  const std::string state = SerializeSimulationState(sim.TakeSnapshot());
   if (auto s = WriteCheckpointFile(path, meta, state); !s.ok()) {
     log_->warn("checkpoint at step {} not written: {}", sim.step(), s.ToString());
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));

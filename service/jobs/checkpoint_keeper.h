@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "seep/core/run/simulation.h"
 #include "seep/core/status.h"
@@ -50,11 +51,16 @@ class CheckpointKeeper {
   // as an event; the run goes on (its result is still correct, only less protected). A lost
   // lease is returned as ABORTED so the caller stops.
   core::Status Write(const core::Simulation& sim);
+  // The same with sim's state already serialized (SerializeSimulationState of its snapshot).
+  core::Status Write(const core::Simulation& sim, std::string_view state);
 
   std::uint64_t written() const { return written_; }
   double seconds_writing() const { return seconds_writing_; }
 
  private:
+  // Write's work, timed from `start` (seconds_writing).
+  core::Status WriteState(const core::Simulation& sim, std::string_view state,
+                          std::chrono::steady_clock::time_point start);
   void Event(const std::string& kind, const std::string& message);
 
   JobStore& store_;

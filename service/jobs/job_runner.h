@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -69,6 +70,21 @@ class JobRunner {
     std::stop_source stop;  // this job only: cancel, lease loss or shutdown
     std::atomic<bool> cancel{false};
     std::atomic<bool> lease_lost{false};
+    std::shared_ptr<spdlog::logger> log;  // the job's own ("job-<id>")
+    std::chrono::steady_clock::time_point wall_start;
+    std::chrono::steady_clock::time_point last_store_write;  // of progress; worker thread only
+
+    // The one handling of a lost lease: when a fenced write `s` is ABORTED, another claim owns
+    // the job now, so this worker stops it and records nothing more. True if so.
+    bool StopIfLeaseLost(const core::Status& s);
+  };
+  // What differs between the end of a simulation and that of a calibration (see Conclude).
+  struct Ending {
+    const char* kind;  // "" or "calibration ", in log lines
+    // First, for every outcome: false when the lease turned out lost (nothing is recorded).
+    std::function<bool(bool stopped)> keep_state;
+    std::function<void(double wall_s)> interrupted;  // shutdown: its log line and event
+    std::function<Status(double wall_s)> succeed;    // records the result and SUCCEEDED
   };
 
   void WorkerLoop(const std::stop_token& stop);
@@ -76,18 +92,22 @@ class JobRunner {
   // Renews one lease; on a pending cancel or a lost lease, stops the job.
   void Renew(const std::string& id, Running& running);
   void RunJob(const JobRecord& job, const std::stop_token& shutdown);
-  // Records how the run ended: a checkpoint for a stopped run, then the terminal state (or none
-  // for a shutdown, which leaves the job RUNNING for the next start).
-  void Finish(const JobRecord& job, Running& running, const core::Status& outcome,
-              const core::Simulation* sim, CheckpointKeeper& keeper,
-              std::chrono::steady_clock::time_point wall_start,
-              const std::shared_ptr<spdlog::logger>& log);
-  void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // A simulation job: its scene decoded, resumed from its newest usable checkpoint, run with
+  // periodic checkpoints, and its end recorded.
+  void RunSimulation(const JobRecord& job, Running& running);
   // A calibration job (job_runner_calibration.cc): calibrates every target with the job's stop
   // token, then records the records and the terminal state, each fenced by the lease epoch.
-  void RunCalibration(const JobRecord& job, Running& running,
-                      std::chrono::steady_clock::time_point wall_start,
-                      const std::shared_ptr<spdlog::logger>& log);
+  void RunCalibration(const JobRecord& job, Running& running);
+  // Live progress to the hub, and to the store at most every store_progress_interval.
+  void PublishProgress(const std::string& id, Running& running, const JobProgress& progress);
+  // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; for a
+  // shutdown an INTERRUPTED event only (the job stays RUNNING, so the next start queues it
+  // again); ending.succeed for a success; FAILED with the outcome otherwise.
+  void Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
+                const Ending& ending);
+  void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker).
+  static core::Status CatchAll(const std::function<core::Status()>& body);
 
   JobStore& store_;
   JobHub& hub_;

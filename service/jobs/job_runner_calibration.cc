@@ -61,76 +61,38 @@ std::vector<std::pair<std::string, double>> CalibrationJobMetrics(
 
 }  // namespace
 
-void JobRunner::RunCalibration(const JobRecord& job, Running& running,
-                               std::chrono::steady_clock::time_point wall_start,
-                               const std::shared_ptr<spdlog::logger>& log) {
-  core::Status outcome = core::Internal("calibration did not run");
+void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
+  const std::shared_ptr<spdlog::logger>& log = running.log;
   std::vector<core::CalibrationRecord> records;
   v1::Calibration calibration;
-  try {
+  const core::Status outcome = CatchAll([&]() -> core::Status {
     if (!calibration.ParseFromString(job.scene)) {
-      outcome = core::DataLoss("stored calibration bytes do not parse as seep.v1.Calibration");
-    } else if (auto spec = CalibrationFromProto(calibration); !spec.ok()) {
-      outcome = spec.status();
-    } else {
-      std::uint64_t solves = 0;
-      auto last_store_write = std::chrono::steady_clock::now();
-      core::CalibrationControl control;
-      control.stop = running.stop.get_token();
-      control.logger = log;
-      control.on_progress = [&](const core::CalibrationProgress& p) {
-        ++solves;
-        const JobProgress progress = CalibrationJobProgress(p, solves);
-        hub_.Publish(job.id, progress);
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last_store_write < options_.store_progress_interval) return;
-        last_store_write = now;
-        if (auto s = store_.UpdateProgress(job.id, running.epoch, progress); !s.ok()) {
-          if (s.code() == core::StatusCode::kAborted) {
-            log->warn("lease lost ({}); stopping", s.ToString());
-            running.lease_lost = true;
-            running.stop.request_stop();
-          } else {
-            log->warn("progress not stored: {}", s.ToString());
-          }
-        }
-      };
-      auto calibrated = core::CalibrateResidualAperture(*spec, control);
-      if (calibrated.ok()) {
-        records = std::move(*calibrated);
-        outcome = core::Status::Ok();
-      } else {
-        outcome = calibrated.status();
-      }
+      return core::DataLoss("stored calibration bytes do not parse as seep.v1.Calibration");
     }
-  } catch (const std::exception& e) {
-    outcome = core::Internal(fmt::format("unexpected exception: {}", e.what()));
-  }
-  {
-    std::lock_guard lock(mutex_);
-    running_.erase(job.id);
-  }
+    auto spec = CalibrationFromProto(calibration);
+    if (!spec.ok()) return spec.status();
+    std::uint64_t solves = 0;
+    core::CalibrationControl control;
+    control.stop = running.stop.get_token();
+    control.logger = log;
+    control.on_progress = [&](const core::CalibrationProgress& p) {
+      PublishProgress(job.id, running, CalibrationJobProgress(p, ++solves));
+    };
+    auto calibrated = core::CalibrateResidualAperture(*spec, control);
+    if (!calibrated.ok()) return calibrated.status();
+    records = std::move(*calibrated);
+    return core::Status::Ok();
+  });
 
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  const bool stopped =
-      outcome.code() == core::StatusCode::kCancelled && running.stop.stop_requested();
-  if (stopped && running.lease_lost) {
-    log->warn("stopped after losing its lease; nothing recorded by this worker");
-    return;
-  }
-  Status stored;
-  if (stopped && running.cancel) {
-    stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
-                           outcome.message(), {}, wall_s, NowMs());
-    log->info("calibration cancelled after {:.3f} s: {}", wall_s, outcome.message());
-  } else if (stopped) {
-    // Shutdown: the job stays RUNNING and the next start runs it again from the beginning.
+  Ending ending;
+  ending.kind = "calibration ";
+  ending.keep_state = [](bool) { return true; };  // nothing to keep: a calibration reruns
+  ending.interrupted = [&](double wall_s) {
     log->info("calibration interrupted by shutdown after {:.3f} s; it runs again on restart",
               wall_s);
     AddEvent(job.id, "INTERRUPTED", "shutdown during a calibration (no checkpoints: reruns)");
-    return;
-  } else if (outcome.ok()) {
+  };
+  ending.succeed = [&](double wall_s) {
     const std::string setup_sha = CalibrationSetupSha256(calibration);
     const std::int64_t now_ms = NowMs();
     std::vector<std::string> tags(calibration.tags().begin(), calibration.tags().end());
@@ -150,20 +112,16 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running,
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
-    stored = store_.RecordCalibrations(job.id, running.epoch, rows, tags);
+    Status stored = store_.RecordCalibrations(job.id, running.epoch, rows, tags);
     if (stored.ok()) {
       stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "",
                              CalibrationJobMetrics(records), wall_s, NowMs());
     }
     log->info("calibration succeeded in {:.3f} s: {} target(s), {} permeameter solves", wall_s,
               records.size(), solves);
-  } else {
-    stored =
-        store_.Finish(job.id, running.epoch, JobState::kFailed,
-                      core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
-    log->warn("calibration failed: {}", outcome.ToString());
-  }
-  if (!stored.ok()) log->error("could not record the outcome: {}", stored.ToString());
+    return stored;
+  };
+  Conclude(job, running, outcome, ending);
 }
 
 }  // namespace seep::service

@@ -1,8 +1,11 @@
 // SeepServiceImpl: seep.v1.SeepService on gRPC's synchronous API.
 //
-// Handlers decode, call the store or the hub, encode: they never run physics. The synchronous
-// API is enough here (a handful of clients, one long stream per watcher); WatchJob waits on the
-// hub with a timeout so that cancelled streams and shutdown are noticed within a second.
+// Every handler body runs inside Guarded (rpc/handler.h: authentication, no escaping exception).
+// Handlers decode, call the store or the hub, encode: they never run physics on their own
+// thread. The one that needs physics (GetJobFields) hands it to the PhysicsPool, whose threads
+// use a job's thread budget, and waits for it while its call lasts. The synchronous API is
+// enough here (a handful of clients, one long stream per watcher); WatchJob waits on the hub
+// with a timeout so that cancelled streams and shutdown are noticed within a second.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -12,6 +15,7 @@
 #include <string>
 
 #include "jobs/job_hub.h"
+#include "jobs/physics_pool.h"
 #include "rpc/bearer_auth.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "store/job_store.h"
@@ -33,50 +37,50 @@ struct ServiceGuards {
 
 class SeepServiceImpl final : public v1::SeepService::Service {
  public:
-  SeepServiceImpl(JobStore& store, JobHub& hub, std::string build_id, ServiceHooks hooks,
-                  std::shared_ptr<spdlog::logger> logger, ServiceGuards guards = {});
+  // `physics` runs GetJobFields' physics (owned by the caller, outlives the service).
+  SeepServiceImpl(JobStore& store, JobHub& hub, PhysicsPool& physics, std::string build_id,
+                  ServiceHooks hooks, std::shared_ptr<spdlog::logger> logger,
+                  ServiceGuards guards = {});
 
-  grpc::Status SubmitJob(grpc::ServerContext* ctx, const v1::SubmitJobRequest* req,
-                         v1::SubmitJobResponse* resp) override;
-  grpc::Status GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
-                      v1::GetJobResponse* resp) override;
-  grpc::Status ListJobs(grpc::ServerContext* ctx, const v1::ListJobsRequest* req,
-                        v1::ListJobsResponse* resp) override;
-  grpc::Status WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
-                        grpc::ServerWriter<v1::JobEvent>* writer) override;
-  grpc::Status CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
-                         v1::CancelJobResponse* resp) override;
-  grpc::Status ResumeJob(grpc::ServerContext* ctx, const v1::ResumeJobRequest* req,
-                         v1::ResumeJobResponse* resp) override;
-  grpc::Status GetResult(grpc::ServerContext* ctx, const v1::GetResultRequest* req,
-                         v1::GetResultResponse* resp) override;
-  grpc::Status ListCalibrations(grpc::ServerContext* ctx, const v1::ListCalibrationsRequest* req,
-                                v1::ListCalibrationsResponse* resp) override;
-  grpc::Status LookupCalibration(grpc::ServerContext* ctx, const v1::LookupCalibrationRequest* req,
-                                 v1::LookupCalibrationResponse* resp) override;
+  // The seep.v1.SeepService calls (job_service.proto says what each does).
+  using Ctx = grpc::ServerContext;
+  grpc::Status SubmitJob(Ctx*, const v1::SubmitJobRequest*, v1::SubmitJobResponse*) override;
+  grpc::Status GetJob(Ctx*, const v1::GetJobRequest*, v1::GetJobResponse*) override;
+  grpc::Status ListJobs(Ctx*, const v1::ListJobsRequest*, v1::ListJobsResponse*) override;
+  grpc::Status WatchJob(Ctx*, const v1::WatchJobRequest*,
+                        grpc::ServerWriter<v1::JobEvent>*) override;
+  grpc::Status CancelJob(Ctx*, const v1::CancelJobRequest*, v1::CancelJobResponse*) override;
+  grpc::Status ResumeJob(Ctx*, const v1::ResumeJobRequest*, v1::ResumeJobResponse*) override;
+  grpc::Status GetResult(Ctx*, const v1::GetResultRequest*, v1::GetResultResponse*) override;
+  // seep_service_calibrations.cc
+  grpc::Status ListCalibrations(Ctx*, const v1::ListCalibrationsRequest*,
+                                v1::ListCalibrationsResponse*) override;
+  grpc::Status LookupCalibration(Ctx*, const v1::LookupCalibrationRequest*,
+                                 v1::LookupCalibrationResponse*) override;
   // seep_service_fields.cc
-  grpc::Status GetJobFields(grpc::ServerContext* ctx, const v1::GetJobFieldsRequest* req,
-                            v1::GetJobFieldsResponse* resp) override;
+  grpc::Status GetJobFields(Ctx*, const v1::GetJobFieldsRequest*,
+                            v1::GetJobFieldsResponse*) override;
 
  private:
+  // Runs a handler body: rpc/handler.h.
+  template <typename Fn>
+  grpc::Status Guarded(const grpc::ServerContext* ctx, const char* rpc, Fn&& fn) const;
+
   // A calibration ready to store: its name and serialized seep.v1.Calibration.
   struct PreparedCalibration {
     std::string name;
     std::string bytes;
   };
-  // The calibration half of SubmitJob and the calibration queries
-  // (seep_service_calibrations.cc). Nothing is stored for a calibration that fails its checks.
+  // The calibration half of SubmitJob (seep_service_calibrations.cc). Nothing is stored for a
+  // calibration that fails its checks.
   core::Result<PreparedCalibration> PrepareCalibrationJob(const v1::Calibration& calibration);
-  grpc::Status DoListCalibrations(const v1::ListCalibrationsRequest& req,
-                                  v1::ListCalibrationsResponse* resp);
-  grpc::Status DoLookupCalibration(const v1::LookupCalibrationRequest& req,
-                                   v1::LookupCalibrationResponse* resp);
 
   // The stored job with the hub's live progress laid over it.
   core::Result<JobRecord> LoadJob(const std::string& id);
 
   JobStore& store_;
   JobHub& hub_;
+  PhysicsPool& physics_;
   std::string build_id_;
   ServiceHooks hooks_;
   std::shared_ptr<spdlog::logger> logger_;

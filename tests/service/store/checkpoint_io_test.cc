@@ -1,24 +1,19 @@
-#include "codec/checkpoint_io.h"
+#include "store/checkpoint_io.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "test_support.h"
 
 namespace seep::service {
 namespace {
 
 class CheckpointIoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-ckpt-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = testing::FreshTestDir("ckpt-test"); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   static CheckpointMeta Meta(std::uint64_t step) {
@@ -122,29 +117,6 @@ TEST_F(CheckpointIoTest, ForeignFilesAndNewerFormatsAreRefused) {
   auto read = ReadCheckpointFile(future);
   EXPECT_EQ(read.status().code(), core::StatusCode::kFailedPrecondition);
   EXPECT_NE(read.status().message().find("format version 2"), std::string::npos);
-}
-
-TEST_F(CheckpointIoTest, FallsBackToThePreviousCheckpointWhenTheNewestIsBroken) {
-  const auto older = dir_ / "ckpt-100.bin";
-  const auto newest = dir_ / "ckpt-200.bin";
-  ASSERT_TRUE(WriteCheckpointFile(older, Meta(100), State(5000)).ok());
-  ASSERT_TRUE(WriteCheckpointFile(newest, Meta(200), State(7000)).ok());
-  const std::string full = ReadAll(newest);
-  WriteAll(newest, full.substr(0, full.size() - 10));  // truncated by a crash
-
-  auto found = ReadNewestValidCheckpoint({newest, older});
-  ASSERT_TRUE(found.ok()) << found.status().ToString();
-  EXPECT_EQ(found->path, older);
-  EXPECT_EQ(found->file.meta.step, 100u);
-  EXPECT_EQ(found->file.state, State(5000));
-  ASSERT_EQ(found->skipped.size(), 1u);
-  EXPECT_NE(found->skipped[0].find("ckpt-200.bin: DATA_LOSS"), std::string::npos)
-      << found->skipped[0];
-
-  WriteAll(older, "garbage");
-  auto none = ReadNewestValidCheckpoint({newest, older});
-  ASSERT_FALSE(none.ok());
-  EXPECT_EQ(none.status().code(), core::StatusCode::kNotFound);
 }
 
 }  // namespace

@@ -5,7 +5,6 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/util/delimited_message_util.h>
-#include <openssl/sha.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -67,13 +66,6 @@ Status SyncDirectory(const std::filesystem::path& dir) {
 }
 
 }  // namespace
-
-std::string Sha256(std::string_view bytes) {
-  std::string digest(SHA256_DIGEST_LENGTH, '\0');
-  SHA256(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
-         reinterpret_cast<unsigned char*>(digest.data()));
-  return digest;
-}
 
 Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
                            std::string_view state) {
@@ -164,24 +156,6 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
     return loss("unexpected bytes after the trailer");
   }
   return file;
-}
-
-core::Result<NewestValidCheckpoint> ReadNewestValidCheckpoint(
-    const std::vector<std::filesystem::path>& newest_first) {
-  NewestValidCheckpoint found;
-  for (const auto& path : newest_first) {
-    auto file = ReadCheckpointFile(path);
-    if (file.ok()) {
-      found.file = std::move(*file);
-      found.path = path;
-      return found;
-    }
-    found.skipped.push_back(path.filename().string() + ": " + file.status().ToString());
-  }
-  std::string reasons;
-  for (const auto& s : found.skipped) reasons += "; " + s;
-  return core::NotFound(fmt::format("checkpoint: no valid checkpoint among {} candidate(s){}",
-                                    newest_first.size(), reasons));
 }
 
 }  // namespace seep::service

@@ -5,16 +5,17 @@
 // over <path>, and the directory is fsync'ed, so after a crash <path> is either the old file or
 // the complete new one. Reading verifies the magic, the format version, every chunk's SHA-256,
 // the chunk count and size, and the whole-file SHA-256: a truncated or corrupted file is
-// DATA_LOSS with the reason, a file from a newer format is FAILED_PRECONDITION.
+// DATA_LOSS with the reason, a file from a newer format is FAILED_PRECONDITION. Which file a
+// resume or GetJobFields takes: jobs/newest_checkpoint.h.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
-#include <vector>
 
 #include "seep/core/status.h"
+#include "sha256.h"
 
 namespace seep::service {
 
@@ -35,24 +36,9 @@ struct CheckpointFile {
   std::string state;
 };
 
-// 32 raw bytes.
-std::string Sha256(std::string_view bytes);
-
 core::Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
                                  std::string_view state);
 
 core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path);
-
-struct NewestValidCheckpoint {
-  CheckpointFile file;
-  std::filesystem::path path;
-  // Why each newer candidate was skipped, e.g. "ckpt-200.bin: DATA_LOSS: ... truncated".
-  std::vector<std::string> skipped;
-};
-
-// Tries the candidates in the given order (newest first) and returns the first that reads and
-// verifies; NOT_FOUND (listing every reason) when none does.
-core::Result<NewestValidCheckpoint> ReadNewestValidCheckpoint(
-    const std::vector<std::filesystem::path>& newest_first);
 
 }  // namespace seep::service

@@ -1,0 +1,68 @@
+// What every SeepService handler shares (seep_service*.cc): the wrapper its body runs in, and
+// the paging arguments of the list calls.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <exception>
+#include <optional>
+#include <string>
+#include <type_traits>
+
+#include "rpc/seep_service.h"
+#include "rpc/status_mapping.h"
+
+namespace seep::service {
+
+// The caller is authenticated first (when seepd has a token; a refusal is logged), and no
+// exception escapes into gRPC: it is logged and the caller gets INTERNAL "<rpc>: internal error".
+// The body returns a grpc::Status or a core::Status (mapped by ToGrpcStatus).
+template <typename Fn>
+grpc::Status SeepServiceImpl::Guarded(const grpc::ServerContext* ctx, const char* rpc,
+                                      Fn&& fn) const {
+  if (guards_.auth != nullptr) {
+    if (grpc::Status denied = guards_.auth->Check(*ctx); !denied.ok()) {
+      logger_->warn("{} from {}: refused: {}", rpc, ctx->peer(), denied.error_message());
+      return denied;
+    }
+  }
+  try {
+    if constexpr (std::is_same_v<std::invoke_result_t<Fn>, core::Status>) {
+      return ToGrpcStatus(fn());
+    } else {
+      return fn();
+    }
+  } catch (const std::exception& e) {
+    logger_->error("{}: unexpected exception: {}", rpc, e.what());
+    return {grpc::StatusCode::INTERNAL, fmt::format("{}: internal error", rpc)};
+  }
+}
+
+// INVALID_ARGUMENT "<field>: is required" for an empty id.
+inline core::Status RequireId(const std::string& id, const char* field) {
+  if (!id.empty()) return core::Status::Ok();
+  return core::InvalidArgument(fmt::format("{}: is required", field));
+}
+
+// A list call's page size: 0 asks for the default (50), and at most 1000 are returned.
+inline std::uint32_t PageSize(std::uint32_t requested) {
+  constexpr std::uint32_t kDefault = 50;
+  constexpr std::uint32_t kMax = 1000;
+  return requested == 0 ? kDefault : std::min(requested, kMax);
+}
+
+// A page token as a list call `rpc` returned it (a positive cursor); empty: the first page.
+inline core::Result<std::optional<std::int64_t>> ParsePageToken(const std::string& token,
+                                                                const char* rpc) {
+  if (token.empty()) return std::optional<std::int64_t>();
+  try {
+    std::size_t used = 0;
+    const std::int64_t cursor = std::stoll(token, &used);
+    if (used == token.size() && cursor > 0) return std::optional<std::int64_t>(cursor);
+  } catch (const std::exception&) {
+  }
+  return core::InvalidArgument(fmt::format("page_token: not a token returned by {}", rpc));
+}
+
+}  // namespace seep::service
