@@ -14,6 +14,7 @@ void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::Simula
   out->set_time_s(snapshot.time_s);
   out->mutable_pressure_pa()->Assign(snapshot.pressure.begin(), snapshot.pressure.end());
   out->set_worst_mass_balance_error(snapshot.worst_mass_balance_error);
+  out->set_step_mass_balance_error(snapshot.step_mass_balance_error);
   auto* series = out->mutable_series();
   for (const auto& c : snapshot.series.columns) series->add_columns(c);
   series->mutable_values()->Assign(snapshot.series.values.begin(), snapshot.series.values.end());
@@ -26,6 +27,7 @@ core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::Simula
   snap.time_s = state.time_s();
   snap.pressure.assign(state.pressure_pa().begin(), state.pressure_pa().end());
   snap.worst_mass_balance_error = state.worst_mass_balance_error();
+  snap.step_mass_balance_error = state.step_mass_balance_error();
   snap.series.columns.assign(state.series().columns().begin(), state.series().columns().end());
   snap.series.values.assign(state.series().values().begin(), state.series().values().end());
   if (state.has_mechanics()) snap.mechanics = MechanicsStateFromProto(state.mechanics());

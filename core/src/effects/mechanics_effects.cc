@@ -14,10 +14,9 @@
 namespace seep::core::effects_internal {
 namespace {
 
-class ContactsEffect final : public Effect {
+class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
  public:
-  explicit ContactsEffect(const ContactsEffectSpec& spec)
-      : Effect(kEffectKind<ContactsEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kForceHook; }
 
   Status Bind(LiveState& s, const EffectSet&) override {
@@ -66,14 +65,12 @@ class ContactsEffect final : public Effect {
   }
 
  private:
-  ContactsEffectSpec spec_;
   ContactsEffectState state_;
 };
 
-class BondsEffect final : public Effect {
+class BondsEffect final : public EffectWithSpec<BondsEffectSpec> {
  public:
-  explicit BondsEffect(const BondsEffectSpec& spec)
-      : Effect(kEffectKind<BondsEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return 0; }  // evaluated inside the contact pass
 
   Status Bind(LiveState& s, const EffectSet&) override {
@@ -88,43 +85,31 @@ class BondsEffect final : public Effect {
     }
     return Status::Ok();
   }
-
- private:
-  BondsEffectSpec spec_;
 };
 
-class GravityEffect final : public Effect {
+class GravityEffect final : public EffectWithSpec<GravityEffectSpec> {
  public:
-  explicit GravityEffect(const GravityEffectSpec& spec)
-      : Effect(kEffectKind<GravityEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kForceHook; }
   Status AddForces(LiveState& s, const StepInfo&) override {
     AddGravity(&s.particles, spec_.gx_m_s2, spec_.gy_m_s2, &s.counters.dem);
     return Status::Ok();
   }
-
- private:
-  GravityEffectSpec spec_;
 };
 
-class LocalDampingEffect final : public Effect {
+class LocalDampingEffect final : public EffectWithSpec<LocalDampingEffectSpec> {
  public:
-  explicit LocalDampingEffect(const LocalDampingEffectSpec& spec)
-      : Effect(kEffectKind<LocalDampingEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kPostForceHook; }
   Status PostForce(LiveState& s, const StepInfo&) override {
     ApplyLocalDamping(&s.particles, spec_.alpha, &s.counters.dem);
     return Status::Ok();
   }
-
- private:
-  LocalDampingEffectSpec spec_;
 };
 
-class WallsEffect final : public Effect {
+class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
  public:
-  explicit WallsEffect(const WallsEffectSpec& spec)
-      : Effect(kEffectKind<WallsEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kPostForceHook; }
 
   // Each wall touches the outermost disk surface of its side of the packing's bounding box.
@@ -225,7 +210,6 @@ class WallsEffect final : public Effect {
     return vertical ? s.walls[w].px : s.walls[w].py;
   }
 
-  WallsEffectSpec spec_;
   std::vector<ServoWallSettings> servo_;
   std::vector<double> wall_stress_pa_;  // measured normal stress per wall at the last step
 };

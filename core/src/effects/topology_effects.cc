@@ -106,10 +106,9 @@ class RedetectionEffect final : public Effect {
   RedetectionEffectState state_;
 };
 
-class InjectionEffect final : public Effect {
+class InjectionEffect final : public EffectWithSpec<InjectionEffectSpec> {
  public:
-  explicit InjectionEffect(const InjectionEffectSpec& spec)
-      : Effect(kEffectKind<InjectionEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   // The source acts on the network (set at bind and re-bind); at the end of a flow update the
   // effect tracks the well pressure's peak, the breakdown pressure.
   std::uint32_t Hooks() const override { return kEndOfStepHook; }
@@ -151,7 +150,6 @@ class InjectionEffect final : public Effect {
   }
 
  private:
-  InjectionEffectSpec spec_;
   InjectionEffectState state_;
 };
 

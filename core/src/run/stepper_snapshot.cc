@@ -62,6 +62,7 @@ SimulationSnapshot Stepper::TakeSnapshot() const {
   snap.time_s = time_s_;
   const auto pressure = state_.net.flow.pressure();
   snap.pressure.assign(pressure.begin(), pressure.end());
+  snap.step_mass_balance_error = state_.books.step_error;
   snap.worst_mass_balance_error = state_.books.worst_error;
   snap.series = series_;
   if (state_.moves()) SaveMechanics(&snap.mechanics.emplace());
@@ -111,6 +112,13 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     return DataLoss(fmt::format("snapshot.step: {} is past this scene's last step {}", snap.step,
                                 total_steps_));
   }
+  for (const auto& [field, value] :
+       {std::pair{"step_mass_balance_error", snap.step_mass_balance_error},
+        std::pair{"worst_mass_balance_error", snap.worst_mass_balance_error}}) {
+    if (!(std::isfinite(value) && value >= 0.0)) {
+      return DataLoss(fmt::format("snapshot.{}: must be finite and >= 0 (got {})", field, value));
+    }
+  }
   if (snap.series.columns != series_.columns ||
       snap.series.values.size() % series_.columns.size() != 0) {
     return DataLoss("snapshot.series: columns or row length differ from this scene's");
@@ -123,6 +131,7 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   std::copy(snap.pressure.begin(), snap.pressure.end(), state_.net.flow.mutable_pressure().begin());
   step_ = snap.step;
   time_s_ = snap.time_s;
+  state_.books.step_error = snap.step_mass_balance_error;
   state_.books.worst_error = snap.worst_mass_balance_error;
   series_ = snap.series;
   return Status::Ok();

@@ -84,4 +84,14 @@ class Effect {
   std::size_t kind_;
 };
 
+// An effect that keeps its spec: its kind follows from the spec's type.
+template <typename Spec>
+class EffectWithSpec : public Effect {
+ public:
+  explicit EffectWithSpec(const Spec& spec) : Effect(kEffectKind<Spec>), spec_(spec) {}
+
+ protected:
+  Spec spec_;
+};
+
 }  // namespace seep::core

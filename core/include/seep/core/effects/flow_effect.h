@@ -21,10 +21,9 @@ class VolumeChangeEffect;
 
 enum class FlowMode { kSteady, kStepped, kSubCycled };
 
-class FlowEffect final : public Effect {
+class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
  public:
-  explicit FlowEffect(const FlowEffectSpec& spec)
-      : Effect(kEffectKind<FlowEffectSpec>), spec_(spec) {}
+  using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kEndOfStepHook; }
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
@@ -47,7 +46,6 @@ class FlowEffect final : public Effect {
   std::uint64_t every_steps() const { return every_steps_; }
 
  private:
-  FlowEffectSpec spec_;
   const SceneSpec* scene_ = nullptr;
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;

@@ -50,7 +50,10 @@ struct SimulationSnapshot {
   std::uint64_t step = 0;                 // steps completed
   double time_s = 0.0;                    // simulated time reached
   std::vector<double> pressure;           // per flow-network node (domains then reservoirs), Pa
-  double worst_mass_balance_error = 0.0;  // the fluid books: the largest relative step error
+  // The fluid books: the relative error of the last flow update (a sample between two updates
+  // shows it) and the largest so far.
+  double step_mass_balance_error = 0.0;
+  double worst_mass_balance_error = 0.0;
   TimeSeries series;
   std::optional<MechanicsSnapshot> mechanics;  // scenes with the contacts effect only
 };
