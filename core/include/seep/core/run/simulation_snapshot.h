@@ -47,9 +47,9 @@ struct MechanicsSnapshot {
 };
 
 struct SimulationSnapshot {
-  std::uint64_t step = 0;                 // steps completed
-  double time_s = 0.0;                    // simulated time reached
-  std::vector<double> pressure;           // per flow-network node (domains then reservoirs), Pa
+  std::uint64_t step = 0;        // steps completed
+  double time_s = 0.0;           // simulated time reached
+  std::vector<double> pressure;  // per flow-network node (domains then reservoirs), Pa
   // The fluid books: the relative error of the last flow update (a sample between two updates
   // shows it) and the largest so far.
   double step_mass_balance_error = 0.0;
