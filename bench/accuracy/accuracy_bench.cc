@@ -7,7 +7,7 @@
 // Runs the verification problems that have an analytic answer over a grid of solver choices,
 // through the real path (SceneSpec -> Simulation::Create -> Simulation::Run):
 //   - 1D transient diffusion, Dirichlet–Dirichlet (physics.md §3.2), at T = 0.05 and 0.2:
-//     explicit with apparent volume V_d (the paper's scheme), explicit with pore volume V_p,
+//     explicit with apparent volume V_d (PFC's scheme), explicit with pore volume V_p,
 //     backward Euler (V_p), Crank–Nicolson (V_p); dt as a fraction (explicit) or multiple
 //     (implicit) of dt_crit; resolution; K_f scaling;
 //   - Darcy steady permeability on square lattices (steady solver; explicit and implicit run to
@@ -18,7 +18,7 @@
 //     DEM-coupled column is the V17 unit test.
 // For each run it records the error against the analytic answer and the wall time of the run,
 // writes the CSV and the SVG chart (error versus time, Pareto front), prints the table, the
-// fronts, and the speed-up at 1% error on the 1D problems over the paper's explicit scheme.
+// fronts, and the speed-up at 1% error on the 1D problems over PFC's explicit scheme.
 // The default grid takes about a minute or two; --full adds finer resolutions and longer steps.
 #include <fmt/format.h>
 
@@ -87,7 +87,7 @@ std::optional<Options> ParseArgs(int argc, char** argv) {
   return o;
 }
 
-bool IsPaperScheme(const AccuracyRun& r) {
+bool IsPfcScheme(const AccuracyRun& r) {
   return r.solver == "explicit" && r.storage == "apparent" && r.dt_over_dt_crit == kPaperDtFactor &&
          r.bulk_modulus_pa == kRealWaterBulkModulus;
 }
@@ -104,37 +104,37 @@ std::string Describe(const AccuracyRun& r) {
       r.error);
 }
 
-// The goal of issue 7: 1% error on the 1D transient problem at least 100x faster than the paper's
+// The goal of issue 7: 1% error on the 1D transient problem at least 100x faster than PFC's
 // scheme (explicit, V_d, real water, at its critical step) run at the resolution it needs for 1%.
 // Also the same comparison at each fixed resolution, which is the DEM case: the packing, not the
 // user, sets the resolution.
 void PrintSpeedups(const std::vector<AccuracyRun>& rows, const std::string& problem) {
-  std::optional<std::size_t> paper;
+  std::optional<std::size_t> pfc;
   std::optional<std::size_t> best;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const AccuracyRun& r = rows[i];
     if (r.problem != problem || !Reaches(r)) continue;
-    if (IsPaperScheme(r) && (!paper || r.resolution < rows[*paper].resolution)) paper = i;
+    if (IsPfcScheme(r) && (!pfc || r.resolution < rows[*pfc].resolution)) pfc = i;
     if (!best || r.wall_s < rows[*best].wall_s) best = i;
   }
   fmt::print("\n== {}: reaching {:g}% error\n", problem, 100 * kTargetError);
-  if (!paper || !best) {
-    fmt::print("  the paper's scheme does not reach it at any resolution of the grid\n");
+  if (!pfc || !best) {
+    fmt::print("  PFC's scheme does not reach it at any resolution of the grid\n");
     return;
   }
-  fmt::print("  paper's scheme at the coarsest resolution that reaches it: {}\n",
-             Describe(rows[*paper]));
+  fmt::print("  PFC's scheme at the coarsest resolution that reaches it: {}\n",
+             Describe(rows[*pfc]));
   fmt::print("  fastest run that reaches it:                              {}\n",
              Describe(rows[*best]));
   fmt::print("  SPEED-UP at equal accuracy: {:.2f}x (goal: 100x)\n",
-             rows[*paper].wall_s / rows[*best].wall_s);
+             rows[*pfc].wall_s / rows[*best].wall_s);
   fmt::print(
-      "  at a resolution fixed by the packing (paper's scheme / fastest run <= {:g}% at the "
+      "  at a resolution fixed by the packing (PFC's scheme / fastest run <= {:g}% at the "
       "same resolution):\n",
       100 * kTargetError);
   std::vector<int> resolutions;
   for (const AccuracyRun& r : rows) {
-    if (r.problem == problem && IsPaperScheme(r)) resolutions.push_back(r.resolution);
+    if (r.problem == problem && IsPfcScheme(r)) resolutions.push_back(r.resolution);
   }
   for (const int res : resolutions) {
     std::optional<std::size_t> p;
@@ -142,7 +142,7 @@ void PrintSpeedups(const std::vector<AccuracyRun>& rows, const std::string& prob
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const AccuracyRun& r = rows[i];
       if (r.problem != problem || r.resolution != res) continue;
-      if (IsPaperScheme(r)) p = i;
+      if (IsPfcScheme(r)) p = i;
       if (Reaches(r) && (!b || r.wall_s < rows[*b].wall_s)) b = i;
     }
     if (!p || !b) {
@@ -150,7 +150,7 @@ void PrintSpeedups(const std::vector<AccuracyRun>& rows, const std::string& prob
       continue;
     }
     fmt::print(
-        "    {:>4} domains along: paper {:.3e} s (error {:.2e}), fastest {:.3e} s ({} {} "
+        "    {:>4} domains along: pfc {:.3e} s (error {:.2e}), fastest {:.3e} s ({} {} "
         "{:g} dt_crit, error {:.2e}): {:.1f}x\n",
         res, rows[*p].wall_s, rows[*p].error, rows[*b].wall_s, rows[*b].solver, rows[*b].storage,
         rows[*b].dt_over_dt_crit, rows[*b].error, rows[*p].wall_s / rows[*b].wall_s);
@@ -250,7 +250,7 @@ void PrintKfScaling(const std::vector<AccuracyRun>& rows) {
 
 // The storage choice seen in physical time: V_d stores 1/n_s times too much fluid, so when a
 // material with the lattice's porosity (V_p) has reached T, the V_d run has reached n_s T. The
-// difference of the two exact solutions is the physics error of the paper's scheme, at any
+// difference of the two exact solutions is the physics error of PFC's scheme, at any
 // resolution and any step.
 void PrintStorageInPhysicalTime(const std::vector<double>& times) {
   const double n_s = 1.0 - std::acos(-1.0) / 4.0;  // square lattice V_p / V_d

@@ -39,7 +39,7 @@ struct SolverChoice {
   const std::vector<double>* factors;
 };
 
-// The four schemes every transient problem sweeps: the paper's explicit update (apparent
+// The four schemes every transient problem sweeps: PFC's explicit update (apparent
 // volume), explicit with the pore volume, backward Euler and Crank-Nicolson (both pore volume).
 inline std::array<SolverChoice, 4> TransientChoices(const std::vector<double>& explicit_factors,
                                                     const std::vector<double>& implicit_factors,

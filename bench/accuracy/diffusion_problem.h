@@ -35,7 +35,7 @@ struct DiffusionGrid {
   // error (the grid shows it), so the finest strips run at real water stiffness only.
   int kf_scaling_max_cells = 160;
   // Runs that would cost more than this many explicit free-domain steps (~3 s) are skipped, except
-  // the paper's scheme (explicit, apparent volume, 0.9 dt_crit, real water), which the speed-up
+  // PFC's scheme (explicit, apparent volume, 0.9 dt_crit, real water), which the speed-up
   // needs at every resolution. They lie far off the Pareto front.
   double max_cost = 2e8;
 };

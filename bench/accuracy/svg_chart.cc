@@ -28,7 +28,7 @@ plot::Style MakeStyle(const char* label, const char* colour, plot::Marker marker
 
 plot::Style StyleOf(const std::string& solver, const std::string& storage) {
   if (solver == "explicit" && storage == "apparent") {
-    return MakeStyle("explicit, apparent V_d (the paper's scheme)", "#d62728", plot::Marker::kRing);
+    return MakeStyle("explicit, apparent V_d (PFC's scheme)", "#d62728", plot::Marker::kRing);
   }
   if (solver == "explicit")
     return MakeStyle("explicit, pore V_p", "#ff7f0e", plot::Marker::kSquare);
@@ -47,9 +47,7 @@ plot::Style FrontStyle() {
   return s;
 }
 
-bool IsPaperScheme(const AccuracyRun& r) {
-  return r.solver == "explicit" && r.storage == "apparent";
-}
+bool IsPfcScheme(const AccuracyRun& r) { return r.solver == "explicit" && r.storage == "apparent"; }
 
 // One panel: the runs of `problem` (at `resolution` only when it is >= 0).
 plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& problem,
@@ -67,17 +65,17 @@ plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& p
     panel.y.include_max = 0.1;
     panel.rules.push_back({0.01, "1% error"});
   }
-  // One series per style; the paper's scheme last, as bigger rings: in T it lands exactly on the
+  // One series per style; PFC's scheme last, as bigger rings: in T it lands exactly on the
   // pore-volume runs.
   std::vector<plot::Series> by_style;
-  for (const bool paper : {false, true}) {
+  for (const bool pfc : {false, true}) {
     for (const AccuracyRun& r : rows) {
       if (r.problem != problem || r.pending || !std::isfinite(r.error) || r.wall_s <= 0.0 ||
-          (resolution >= 0 && r.resolution != resolution) || IsPaperScheme(r) != paper) {
+          (resolution >= 0 && r.resolution != resolution) || IsPfcScheme(r) != pfc) {
         continue;
       }
       plot::Style style = StyleOf(r.solver, r.storage);
-      style.marker_size = paper ? 5.0 : 3.5;
+      style.marker_size = pfc ? 5.0 : 3.5;
       auto it = std::find_if(by_style.begin(), by_style.end(),
                              [&](const plot::Series& s) { return s.style.label == style.label; });
       if (it == by_style.end()) {
@@ -121,9 +119,9 @@ core::Status WriteSvgChart(const std::string& path, const std::vector<AccuracyRu
         MakePanel(rows, last_diffusion, finest,
                   fmt::format("{}, {} domains along only", last_diffusion, finest)));
   }
-  plot::Style paper = StyleOf("explicit", "apparent");
-  paper.marker_size = 5.0;
-  chart.legend = {paper,
+  plot::Style pfc = StyleOf("explicit", "apparent");
+  pfc.marker_size = 5.0;
+  chart.legend = {pfc,
                   StyleOf("explicit", "pore"),
                   StyleOf("implicit", "pore"),
                   StyleOf(kCrankNicolsonLabel, "pore"),

@@ -110,6 +110,7 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   spec.dt_factor = solver.dt_factor();
   spec.end_time_s = solver.end_time_s();
   spec.progress_every = solver.progress_every();
+  spec.storage_factor = solver.has_storage_factor() ? solver.storage_factor() : 1.0;
   return spec;
 }
 

@@ -123,6 +123,10 @@ const std::vector<BadScene>& CommonBadScenes() {
          s.mutable_solver()->set_end_time_s(1);
        },
        "scene.solver.dt_factor:"},
+      {"StorageFactorAboveOne", [](v1::Scene& s) { s.mutable_solver()->set_storage_factor(1.5); },
+       "scene.solver.storage_factor: must lie in (0, 1]"},
+      {"StorageFactorZero", [](v1::Scene& s) { s.mutable_solver()->set_storage_factor(0.0); },
+       "scene.solver.storage_factor: must lie in (0, 1]"},
       {"EffectNamesNothing", [](v1::Scene& s) { s.add_effects(); }, "scene.effects[0]:"},
       {"GravityWithoutContacts",
        [](v1::Scene& s) { s.add_effects()->mutable_gravity()->set_gy_m_s2(-9.81); },

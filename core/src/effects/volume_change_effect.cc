@@ -50,7 +50,9 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   const DomainRole* role = s.net.flow.role().data();
   double* change = change_.data();
   for (std::size_t d = 0; d < n; ++d) {
-    change[d] = storage_.factor * (after[d] - before[d]);
+    // Not scaled by the storage factor: the disks are rigid, so all of a domain's volume change
+    // is pore volume (physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt - dV_d)).
+    change[d] = after[d] - before[d];
     if (!(after[d] > 0.0) && role[d] != DomainRole::kFixedPressure) {
       return FailedPrecondition(fmt::format(
           "coupling: domain {} collapsed (volume {} m^2 at step {}); the particles overlap "

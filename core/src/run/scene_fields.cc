@@ -100,7 +100,9 @@ void AddLinearAnalytic(const Simulation& sim, SceneFields* f) {
     const auto pore_volume = net.flow.pore_volume();
     const auto apparent_volume = net.flow.apparent_volume();
     for (std::size_t d = 0; d < net.domains.num_domains(); ++d) {
-      stored += scene.solver.storage == StorageVolume::kPore ? pore_volume[d] : apparent_volume[d];
+      stored +=
+          scene.solver.storage_factor *
+          (scene.solver.storage == StorageVolume::kPore ? pore_volume[d] : apparent_volume[d]);
       apparent += apparent_volume[d];
     }
     if (!(stored > 0.0) || !(apparent > 0.0)) return;

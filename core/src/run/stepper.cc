@@ -115,11 +115,13 @@ std::string Stepper::Describe() const {
   if (!state_.moves()) {
     if (dt_ == 0.0) return "steady solve";
     return fmt::format(
-        "{} solver: dt = {:.6g} s = {} x dt_crit (limiting domain {}), {} steps to t = {} s",
+        "{} solver: dt = {:.6g} s = {} x dt_crit (limiting domain {}), storage {} x {}, {} steps "
+        "to t = {} s",
         solver.kind == SolverKind::kExplicit        ? "explicit"
         : solver.kind == SolverKind::kCrankNicolson ? "crank-nicolson"
                                                     : "implicit",
-        dt_, solver.dt_factor, effects_.flow->limiting_domain(), total_steps_, solver.end_time_s);
+        dt_, solver.dt_factor, effects_.flow->limiting_domain(), StorageVolumeName(solver.storage),
+        solver.storage_factor, total_steps_, solver.end_time_s);
   }
   std::string hooks;
   for (const Hook hook : {kForceHook, kPostForceHook, kEndOfStepHook}) {

@@ -162,6 +162,12 @@ Status ValidateScene(const SceneSpec& scene) {
     SEEP_RETURN_IF_ERROR(
         RequireFinite("boundary.radial.outer_pressure_pa", radial->outer_pressure_pa));
   }
+  if (const double f = scene.solver.storage_factor; !(std::isfinite(f) && f > 0.0 && f <= 1.0)) {
+    return InvalidArgument(fmt::format(
+        "scene.solver.storage_factor: must lie in (0, 1] (the fraction of the storage volume that "
+        "holds fluid; got {})",
+        f));
+  }
   if (scene.solver.kind != SolverKind::kSteady) {
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));

@@ -79,6 +79,14 @@ TEST(SceneCodec, ConvertsARadialBoundary) {
 
 // The scenes shipped in examples/ parse and pass validation (found from this file's path, so
 // the test needs no build-time definition).
+// An unset storage factor is 1 (every volume stores fluid); a set one is taken as written.
+TEST(SceneCodec, StorageFactorDefaultsToOne) {
+  v1::Scene scene = ValidScene();
+  EXPECT_EQ(SceneFromProto(scene)->solver.storage_factor, 1.0);
+  scene.mutable_solver()->set_storage_factor(0.25);
+  EXPECT_EQ(SceneFromProto(scene)->solver.storage_factor, 0.25);
+}
+
 TEST(SceneCodec, ConvertsTheExampleScenes) {
   const std::filesystem::path examples =
       std::filesystem::path(__FILE__).parent_path() / "../../../examples";

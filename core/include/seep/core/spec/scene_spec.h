@@ -102,6 +102,9 @@ struct SolverSpec {
   double dt_factor = 0.9;
   double end_time_s = 0.0;
   std::uint64_t progress_every = 0;
+  // V_s = storage_factor x the storage volume (physics.md §1.2 reading (b)): lets a 2D packing's
+  // pores carry a real material's porosity (n_target / n_2D). In (0, 1].
+  double storage_factor = 1.0;
 };
 
 struct SceneSpec {
@@ -139,10 +142,11 @@ inline bool HasFlow(const SceneSpec& scene) {
   return scene.effects.empty() || HasEffect<FlowEffectSpec>(scene);
 }
 
-// The storage model the scene's solver uses (its storage volume, factor 1).
+// The storage model the scene's solver uses: its storage volume and factor.
 inline StorageModel SceneStorage(const SceneSpec& scene) {
   StorageModel storage;
   storage.volume = scene.solver.storage;
+  storage.factor = scene.solver.storage_factor;
   return storage;
 }
 
