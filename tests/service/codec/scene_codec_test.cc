@@ -77,8 +77,6 @@ TEST(SceneCodec, ConvertsARadialBoundary) {
   EXPECT_FALSE(SceneFromProto(ValidScene())->boundary.radial.has_value());
 }
 
-// The scenes shipped in examples/ parse and pass validation (found from this file's path, so
-// the test needs no build-time definition).
 // An unset storage factor is 1 (every volume stores fluid); a set one is taken as written.
 TEST(SceneCodec, StorageFactorDefaultsToOne) {
   v1::Scene scene = ValidScene();
@@ -87,9 +85,9 @@ TEST(SceneCodec, StorageFactorDefaultsToOne) {
   EXPECT_EQ(SceneFromProto(scene)->solver.storage_factor, 0.25);
 }
 
+// The scenes shipped in examples/ parse and pass validation.
 TEST(SceneCodec, ConvertsTheExampleScenes) {
-  const std::filesystem::path examples =
-      std::filesystem::path(__FILE__).parent_path() / "../../../examples";
+  const std::filesystem::path examples = SEEP_EXAMPLES_DIR;
   for (const char* name : {"darcy_square_lattice.textproto", "darcy_random_packing.textproto",
                            "thiem_radial.textproto"}) {
     SCOPED_TRACE(name);
