@@ -111,6 +111,7 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   spec.end_time_s = solver.end_time_s();
   spec.progress_every = solver.progress_every();
   spec.storage_factor = solver.has_storage_factor() ? solver.storage_factor() : 1.0;
+  spec.storage_floor_fraction = solver.storage_floor_fraction();
   return spec;
 }
 

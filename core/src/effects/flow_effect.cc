@@ -34,7 +34,7 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     mode_ = scene.solver.kind == SolverKind::kSteady ? FlowMode::kSteady : FlowMode::kStepped;
   }
   if (mode_ == FlowMode::kSteady) return Status::Ok();
-  const StorageModel storage = SceneStorage(scene);
+  const StorageModel& storage = s.storage;
   if (scene.solver.kind == SolverKind::kExplicit) {
     ExplicitSolverOptions options;
     options.bulk_modulus = scene.fluid.bulk_modulus_pa;

@@ -176,7 +176,7 @@ namespace seep::core {
 double FluidStableStep(const LiveState& s, double safety) {
   const DomainNetwork& d = s.net.domains;
   const DemParticles& p = s.particles;
-  const StorageModel storage = SceneStorage(*s.scene);
+  const StorageModel& storage = s.storage;
   const double bulk = s.scene->fluid.bulk_modulus_pa;
   std::vector<double> stiffness(p.size(), 0.0);
   for (std::size_t domain = 0; domain < d.num_domains(); ++domain) {

@@ -51,7 +51,7 @@ class RedetectionEffect final : public Effect {
     ++s.counters.redetections;
 
     PressureRemapOptions options;
-    options.storage = SceneStorage(*s.scene);
+    options.storage = s.storage;
     // The old domains as the flow solver stored them: their volumes moved since detection.
     options.old_pore_volume = s.net.flow.pore_volume();
     options.old_apparent_volume = s.net.flow.apparent_volume();

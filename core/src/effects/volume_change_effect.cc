@@ -24,7 +24,7 @@ Status VolumeChangeEffect::Rebind(LiveState& s) {
   apparent_.assign(n, 0.0);
   pore_.assign(n, 0.0);
   change_.assign(s.net.flow.num_domains(), 0.0);
-  storage_ = SceneStorage(*s.scene);
+  storage_ = s.storage;
   return Status::Ok();
 }
 

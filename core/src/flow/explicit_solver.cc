@@ -197,7 +197,8 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
             " m^2, sum C = " + flow_internal::FormatNumber(limit_.limiting_conductance_sum) +
             " m^2/(Pa s)); the explicit update would be unstable. Reduce dt (or use policy "
             "kReduce to sub-step), switch to the implicit solver, raise the storage volume "
-            "(storage factor or volume floor), cap the aperture, or lower K_f");
+            "(a volume floor: scene.solver.storage_floor_fraction), cap the aperture, or lower "
+            "K_f");
       case StepLimitPolicy::kReduce:
         step = allowed;
         break;

@@ -32,7 +32,11 @@ Status ValidateStorageModel(const StorageModel& storage) {
   if (storage.volume != StorageVolume::kApparent && storage.volume != StorageVolume::kPore) {
     return InvalidArgument("flow.storage.volume: unknown storage volume kind");
   }
-  return RequirePositive("flow.storage.factor", storage.factor);
+  SEEP_RETURN_IF_ERROR(RequirePositive("flow.storage.factor", storage.factor));
+  if (!(std::isfinite(storage.floor_m2) && storage.floor_m2 >= 0.0)) {
+    return InvalidArgument("flow.storage.floor_m2: must be finite and >= 0");
+  }
+  return Status::Ok();
 }
 
 }  // namespace seep::core

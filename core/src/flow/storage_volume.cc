@@ -26,7 +26,7 @@ Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain,
       std::string(storage.volume == StorageVolume::kPore ? "pore_volume" : "apparent_volume") +
       "[" + std::to_string(domain) + "]: storage volume of a non-fixed domain must be > 0 (got " +
       std::to_string(volume) + " with storage '" + std::string(StorageVolumeName(storage.volume)) +
-      "'); apply a volume floor, merge the domain, or fix its pressure");
+      "'); set a volume floor (scene.solver.storage_floor_fraction) or fix its pressure");
 }
 
 Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,

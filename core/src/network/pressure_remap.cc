@@ -50,7 +50,7 @@ std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
 double StorageOf(std::span<const double> pore, std::span<const double> apparent, std::size_t dom,
                  const StorageModel& storage) {
   const double v = storage.volume == StorageVolume::kPore ? pore[dom] : apparent[dom];
-  return storage.factor * v;
+  return std::max(storage.factor * v, storage.floor_m2);
 }
 
 }  // namespace

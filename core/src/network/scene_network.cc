@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "seep/core/flow/storage_volume.h"
 #include "seep/core/geometry/random_packing.h"
 
 namespace seep::core {
@@ -204,6 +205,23 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
 
 Result<Packing> BuildScenePacking(const PackingSpec& spec) {
   return std::visit(PackingBuilder{}, spec.source);
+}
+
+StorageModel RunStorage(const SceneSpec& scene, const FlowNetwork& flow) {
+  StorageModel storage = SceneStorage(scene);
+  if (scene.solver.storage_floor_fraction <= 0.0) return storage;
+  double sum = 0.0;
+  std::size_t counted = 0;
+  const auto role = flow.role();
+  for (std::size_t d = 0; d < flow.num_domains(); ++d) {
+    if (role[d] == DomainRole::kFixedPressure) continue;
+    sum += StorageVolumeOf(flow, storage, d);
+    ++counted;
+  }
+  if (counted > 0) {
+    storage.floor_m2 = scene.solver.storage_floor_fraction * (sum / static_cast<double>(counted));
+  }
+  return storage;
 }
 
 ApertureLaw SceneApertureLaw(const SceneSpec& scene) {

@@ -46,6 +46,7 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   s.has_network = has_network;
   s.detection_x = s.net.packing.x;
   s.detection_y = s.net.packing.y;
+  s.storage = has_network ? RunStorage(scene, s.net.flow) : SceneStorage(scene);
   // An empty list is what every scene meant before effects existed: flow on a frozen packing.
   stepper->effects_ =
       MakeEffects(stepper->scene_.effects.empty() ? std::vector<EffectSpec>{FlowEffectSpec{}}
@@ -115,13 +116,14 @@ std::string Stepper::Describe() const {
   if (!state_.moves()) {
     if (dt_ == 0.0) return "steady solve";
     return fmt::format(
-        "{} solver: dt = {:.6g} s = {} x dt_crit (limiting domain {}), storage {} x {}, {} steps "
-        "to t = {} s",
+        "{} solver: dt = {:.6g} s = {} x dt_crit (limiting domain {}), storage {} x {} (floor "
+        "{:.6g} "
+        "m^2), {} steps to t = {} s",
         solver.kind == SolverKind::kExplicit        ? "explicit"
         : solver.kind == SolverKind::kCrankNicolson ? "crank-nicolson"
                                                     : "implicit",
         dt_, solver.dt_factor, effects_.flow->limiting_domain(), StorageVolumeName(solver.storage),
-        solver.storage_factor, total_steps_, solver.end_time_s);
+        solver.storage_factor, state_.storage.floor_m2, total_steps_, solver.end_time_s);
   }
   std::string hooks;
   for (const Hook hook : {kForceHook, kPostForceHook, kEndOfStepHook}) {

@@ -168,6 +168,13 @@ Status ValidateScene(const SceneSpec& scene) {
         "holds fluid; got {})",
         f));
   }
+  if (const double a = scene.solver.storage_floor_fraction;
+      !(std::isfinite(a) && a >= 0.0 && a < 1.0)) {
+    return InvalidArgument(fmt::format(
+        "scene.solver.storage_floor_fraction: must lie in [0, 1) (the floor as a fraction of the "
+        "mean storage volume; 0.05-0.2 is usual; got {})",
+        a));
+  }
   if (scene.solver.kind != SolverKind::kSteady) {
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));

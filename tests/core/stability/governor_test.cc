@@ -118,7 +118,8 @@ TEST(Stability, ExplicitAtOnePoint05CriticalIsRefusedWithReasonOrReduced) {
        {std::string("flow.explicit: dt = "), std::string("dt_crit"),
         "at domain " + std::to_string(domain) + ":", std::string("V_s = "), std::string("sum C = "),
         std::string("Reduce dt"), std::string("implicit solver"),
-        std::string("storage factor or volume floor"), std::string("cap the aperture")}) {
+        std::string("a volume floor: scene.solver.storage_floor_fraction"),
+        std::string("cap the aperture")}) {
     EXPECT_NE(m.find(part), std::string::npos) << "missing '" << part << "' in: " << m;
   }
 

@@ -114,8 +114,9 @@ TEST(Stability, ZeroVolumeDomainIsRefusedByEveryTransientSolver) {
   FlowNetworkData d = testing::MakeRandomClosedData(12, 6, 3);
   d.pore_volume[5] = 0.0;  // a sliver collapsed to nothing
   FlowNetwork net = testing::MakeOrDie(std::move(d));
-  const std::vector<std::string> parts = {"flow.network.pore_volume[5]:", "must be > 0",
-                                          "apply a volume floor, merge the domain"};
+  const std::vector<std::string> parts = {
+      "flow.network.pore_volume[5]:", "must be > 0",
+      "set a volume floor (scene.solver.storage_floor_fraction)"};
   auto explicit_solver = ExplicitSolver::Create({});
   ASSERT_TRUE(explicit_solver.ok());
   ExpectMessage(explicit_solver->Step(net, 1e-9).status(), StatusCode::kInvalidArgument, parts);

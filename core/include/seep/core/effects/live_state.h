@@ -43,6 +43,9 @@ struct FluidBooks {
 
 struct LiveState {
   const SceneSpec* scene = nullptr;
+  // The run's storage model (RunStorage: the scene's volume and factor, the floor from the
+  // network at set-up); every effect that weighs fluid uses this one.
+  StorageModel storage;
   SceneNetwork net;  // domains, pipes and flow network of the current topology
   bool has_network = false;
   // Positions at the last (re-)detection of the network: the volume updater's reference.

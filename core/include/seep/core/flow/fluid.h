@@ -24,6 +24,10 @@ enum class StorageVolume { kApparent, kPore };
 struct StorageModel {
   StorageVolume volume = StorageVolume::kPore;
   double factor = 1.0;
+  // Volume floor (physics.md §4.4 remedy 1): V_s = max(factor x V, floor_m2), m^2. Adds storage
+  // to slivers only; steady states do not change and the books stay closed, since every update
+  // and every balance uses the same V_s. 0 = none.
+  double floor_m2 = 0.0;
 };
 
 std::string_view StorageVolumeName(StorageVolume volume);

@@ -1,8 +1,9 @@
-// Per-domain storage volume V_s = factor * (V_d or V_p), the volume in the denominator of the
-// pressure update (physics.md §1.2, R1/R2). Fixed-pressure domains store nothing the solvers use;
-// every other domain must have V_s > 0 or its pressure update is undefined.
+// Per-domain storage volume V_s = max(factor * (V_d or V_p), floor), the volume in the denominator
+// of the pressure update (physics.md §1.2, R1/R2). Fixed-pressure domains store nothing the solvers
+// use; every other domain must have V_s > 0 or its pressure update is undefined.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -17,11 +18,11 @@ inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& st
                               std::size_t d) {
   const double v = storage.volume == StorageVolume::kPore ? network.pore_volume()[d]
                                                           : network.apparent_volume()[d];
-  return storage.factor * v;
+  return std::max(storage.factor * v, storage.floor_m2);
 }
 
 // V_s for every domain. Fails with InvalidArgument naming the domain when a free or source domain
-// has V_s <= 0 (a sliver or an unset volume: apply a volume floor, physics.md §4.4).
+// has V_s <= 0 (a sliver or an unset volume without a floor, physics.md §4.4).
 Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
                                                   const StorageModel& storage);
 

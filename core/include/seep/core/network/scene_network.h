@@ -98,6 +98,11 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene);
 // scenes, the well centre; everything else is rebuilt. Same checks and messages as the build.
 Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net);
 
+// The storage model of a run on `flow`, the network at set-up: the scene's volume and factor, and
+// the floor storage_floor_fraction x the mean factor x V of its free and source domains (fixed
+// for the run, so a resumed run uses the same).
+StorageModel RunStorage(const SceneSpec& scene, const FlowNetwork& flow);
+
 // The scene's aperture law (reference force 1 N/m when the scene leaves it 0, no cap when
 // max_aperture_m is 0).
 ApertureLaw SceneApertureLaw(const SceneSpec& scene);

@@ -105,6 +105,10 @@ struct SolverSpec {
   // V_s = storage_factor x the storage volume (physics.md §1.2 reading (b)): lets a 2D packing's
   // pores carry a real material's porosity (n_target / n_2D). In (0, 1].
   double storage_factor = 1.0;
+  // Volume floor (physics.md §4.4): V_s >= storage_floor_fraction x the mean V_s of the free
+  // domains of the network at set-up, so slivers neither stall the explicit step nor blow up. In
+  // [0, 1); 0 = none.
+  double storage_floor_fraction = 0.0;
 };
 
 struct SceneSpec {
@@ -142,7 +146,8 @@ inline bool HasFlow(const SceneSpec& scene) {
   return scene.effects.empty() || HasEffect<FlowEffectSpec>(scene);
 }
 
-// The storage model the scene's solver uses: its storage volume and factor.
+// The storage model the scene's solver uses: its storage volume and factor (the floor depends on
+// the network: RunStorage in network/scene_network.h).
 inline StorageModel SceneStorage(const SceneSpec& scene) {
   StorageModel storage;
   storage.volume = scene.solver.storage;
