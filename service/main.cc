@@ -1,5 +1,6 @@
 // seepd: the seep job server. Flags, logging sinks, the store, the worker pool and the gRPC
 // server; SIGINT/SIGTERM stop it gracefully (running jobs are left to resume on restart).
+#include <fcntl.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -7,11 +8,14 @@
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -137,6 +141,53 @@ bool WritePortFile(const std::string& path, int port) {
   return !ec;
 }
 
+// Exit status of a seepd that finds its data folder held by another one.
+constexpr int kExitDataDirInUse = 75;
+
+// One seepd per data folder: an exclusive flock on <data-dir>/seepd.lock, held (the descriptor
+// left open) for the life of the process and released by the kernel however it ends, kill -9
+// included. The file holds the holder's pid, for the message of the next one. Returns the
+// descriptor, or -1 after printing why (to stderr only: a refused seepd writes nothing into the
+// folder, not even its log).
+int LockDataDir(const std::string& data_dir, bool& in_use) {
+  in_use = false;
+  const std::string path = (std::filesystem::path(data_dir) / "seepd.lock").string();
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    std::fprintf(stderr, "seepd: --data-dir %s: cannot open %s: %s\n", data_dir.c_str(),
+                 path.c_str(), std::strerror(errno));
+    return -1;
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    if (error == EWOULDBLOCK) {
+      char pid[32] = {};
+      const ssize_t n = ::pread(fd, pid, sizeof pid - 1, 0);
+      std::string holder = n > 0 ? std::string(pid, static_cast<std::size_t>(n)) : "";
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
+      std::fprintf(stderr,
+                   "seepd: --data-dir %s is in use by another seepd (pid %s, lock %s); stop it "
+                   "or choose another --data-dir. Nothing was changed.\n",
+                   data_dir.c_str(), holder.empty() ? "unknown" : holder.c_str(), path.c_str());
+      in_use = true;
+    } else {
+      std::fprintf(stderr, "seepd: --data-dir %s: cannot lock %s: %s\n", data_dir.c_str(),
+                   path.c_str(), std::strerror(error));
+    }
+    ::close(fd);
+    return -1;
+  }
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd, 0) != 0 ||
+      ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+    std::fprintf(stderr, "seepd: --data-dir %s: cannot write %s: %s\n", data_dir.c_str(),
+                 path.c_str(), std::strerror(errno));
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
 int Run(const Options& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.data_dir, ec);
@@ -145,6 +196,9 @@ int Run(const Options& options) {
                  ec.message().c_str());
     return 2;
   }
+  // Before anything else touches the folder (log, database, recovery of interrupted jobs).
+  bool in_use = false;
+  if (LockDataDir(options.data_dir, in_use) < 0) return in_use ? kExitDataDirInUse : 2;
   auto logger = MakeLogger(options);
   seep::core::SetLogger(logger->clone("core"));
 

@@ -31,6 +31,7 @@ class ChildProcess {
   ~ChildProcess();
 
   bool running() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   // Sends the signal and waits for the exit; returns the exit status (or 128 + signal).
   int Stop(int signal, std::chrono::seconds timeout = std::chrono::seconds(20));
 

@@ -1,0 +1,102 @@
+// Failure paths that heal themselves, through the real seepd: a second seepd on a data folder
+// that is in use refuses to start and changes nothing.
+#include <google/protobuf/text_format.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "grpc_seepd_fixture.h"
+
+namespace seep::testing {
+namespace {
+
+// An explicit transient on a square lattice: a few seconds of steps with progress all along.
+v1::Scene LatticeScene(const std::string& name, double end_time_s) {
+  v1::Scene scene;
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(
+      R"pb(
+        packing { lattice { kind: LATTICE_KIND_SQUARE columns: 80 rows: 50 radius_m: 1e-3 } }
+        fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
+        aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
+        boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 }
+        solver { kind: SOLVER_KIND_EXPLICIT storage: STORAGE_VOLUME_PORE dt_factor: 0.9 }
+      )pb",
+      &scene));
+  scene.set_name(name);
+  scene.mutable_solver()->set_end_time_s(end_time_s);
+  return scene;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
+}
+
+std::size_t Count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+class ServiceHeal : public GrpcSeepdTest {
+ protected:
+  ServiceHeal() : GrpcSeepdTest("e2e-heal") {}
+
+  // Polls the job until `done` holds for it or the timeout passes; returns it as last seen.
+  v1::Job WaitFor(const std::string& id, const std::function<bool(const v1::Job&)>& done,
+                  std::chrono::seconds timeout = std::chrono::seconds(240)) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      v1::Job job = Get(id);
+      if (done(job) || std::chrono::steady_clock::now() > deadline) return job;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  v1::Job WaitTerminal(const std::string& id) {
+    return WaitFor(id, [](const v1::Job& j) { return IsTerminalState(j.state()); });
+  }
+};
+
+TEST_F(ServiceHeal, SecondSeepdOnTheSameDataFolderRefusesAndTouchesNothing) {
+  Start("data", {"--checkpoint-interval-s", "0.2"});
+  const std::string id = Submit(LatticeScene("held", 4e-2));
+  const v1::Job running = WaitFor(id, [](const v1::Job& j) {
+    return j.state() == v1::JOB_STATE_RUNNING && j.progress().step() > 0;
+  });
+  ASSERT_EQ(running.state(), v1::JOB_STATE_RUNNING) << running.DebugString();
+  const std::string log_before = ReadFile(dir_ / "data" / "seepd.log");
+
+  // The second seepd: `timeout` ends it if it wrongly starts serving.
+  const std::string second_port = (dir_ / "second.port").string();
+  std::vector<std::string> argv = SeepdArgv("data", second_port);
+  argv.insert(argv.begin(), {"/usr/bin/timeout", "60"});
+  const CommandResult second = RunCommand(argv);
+  EXPECT_EQ(second.exit_code, 75) << second.output;
+  EXPECT_NE(
+      second.output.find("--data-dir " + (dir_ / "data").string() +
+                         " is in use by another seepd (pid " + std::to_string(server_.pid()) + ","),
+      std::string::npos)
+      << second.output;
+  EXPECT_FALSE(std::filesystem::exists(second_port));
+
+  // The first one keeps serving, and its job finishes in its first claim.
+  const v1::Job done = WaitTerminal(id);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.DebugString();
+  EXPECT_EQ(done.attempt(), 1u);
+  const std::string log = ReadFile(dir_ / "data" / "seepd.log");
+  ASSERT_GE(log.size(), log_before.size());
+  EXPECT_EQ(log.compare(0, log_before.size(), log_before), 0) << "the log was rewritten";
+  // Nothing of the second one reached the log: no start-up line, no recovery, no second claim.
+  EXPECT_EQ(Count(log, "listening on"), 1u) << log;
+  EXPECT_EQ(Count(log, "recovered"), 0u) << log;
+  EXPECT_EQ(Count(log, "lease epoch 2"), 0u) << log;
+
+  // Once the first one is gone, the folder is free again.
+  stub_.reset();
+  EXPECT_EQ(server_.Stop(SIGTERM), 0);
+  Start("data", {});
+  EXPECT_EQ(Get(id).state(), v1::JOB_STATE_SUCCEEDED);
+}
+
+}  // namespace
+}  // namespace seep::testing
