@@ -12,7 +12,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -54,8 +56,11 @@ struct Options {
   std::uint64_t checkpoint_every_steps = 0;
   double checkpoint_interval_s = 30.0;
   std::uint32_t checkpoints_kept = 3;
-  std::string token_file;  // else SEEP_TOKEN; neither: no token
-  std::string tls_cert;    // PEM; with tls_key, serve TLS
+  double lease_s = 30.0;
+  double job_time_limit_s = 0.0;  // 0: no limit
+  std::string test_stall_job;     // test only
+  std::string token_file;         // else SEEP_TOKEN; neither: no token
+  std::string tls_cert;           // PEM; with tls_key, serve TLS
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
@@ -268,6 +273,18 @@ int Run(const Options& options) {
                                        : seep::core::CoreThreadsPerJob(options.workers);
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = lease_owner;
+  runner_options.lease_duration =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.lease_s * 1000));
+  // Renewals (and the rescuer's look for expired leases) several times per lease.
+  runner_options.heartbeat_interval =
+      std::min(std::chrono::milliseconds(2000), runner_options.lease_duration / 4);
+  runner_options.job_time_limit =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
+  runner_options.test_stall_job = options.test_stall_job;
+  if (!options.test_stall_job.empty()) {
+    logger->warn("test hook --test-stall-job '{}' is on: not for production",
+                 options.test_stall_job);
+  }
   runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
   runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
   runner_options.checkpoints.interval =
@@ -358,6 +375,21 @@ int main(int argc, char** argv) {
                  "newest checkpoint files kept per job")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  app.add_option("--lease-s", options.lease_s,
+                 "seconds a job's lease lasts without progress; then the rescuer queues the job "
+                 "again (must exceed the longest step or scene set-up)")
+      ->check(CLI::Range(0.5, 86400.0))
+      ->capture_default_str();
+  app.add_option("--job-time-limit-s", options.job_time_limit_s,
+                 "wall seconds one run of a job may take before it is FAILED with "
+                 "DEADLINE_EXCEEDED (checkpointed first; 0 = no limit)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  app.add_option(
+         "--test-stall-job", options.test_stall_job,
+         "TEST ONLY: the first worker to run a job of this name hangs 1500 steps into its run "
+         "until it loses the lease")
+      ->group("");  // hidden from --help
   app.add_option("--token-file", options.token_file,
                  "require 'authorization: Bearer <token>' on every SeepService call, the token "
                  "read from this file (mode 600); without it, SEEP_TOKEN is used if set");

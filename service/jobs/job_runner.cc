@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <exception>
+#include <thread>
 
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
@@ -14,6 +15,11 @@
 #include "store/sha256.h"
 
 namespace seep::service {
+namespace {
+// Where --test-stall-job hangs a run: this many steps into the claim.
+constexpr std::uint64_t kTestStallStep = 1500;
+}  // namespace
+
 JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
                      std::shared_ptr<spdlog::logger> logger)
     : store_(store), hub_(hub), options_(std::move(options)), logger_(std::move(logger)) {}
@@ -25,16 +31,18 @@ void JobRunner::Start() {
     workers_.emplace_back([this](const std::stop_token& stop) { WorkerLoop(stop); });
   }
   heartbeat_ = std::jthread([this](const std::stop_token& stop) { HeartbeatLoop(stop); });
+  rescuer_ = std::jthread([this](const std::stop_token& stop) { RescueLoop(stop); });
 }
 
 void JobRunner::Stop() {
   for (auto& w : workers_) w.request_stop();
   wake_.notify_all();
   workers_.clear();  // joins
-  if (heartbeat_.joinable()) {
-    heartbeat_.request_stop();
+  for (std::jthread* t : {&heartbeat_, &rescuer_}) {
+    if (!t->joinable()) continue;
+    t->request_stop();
     heartbeat_wake_.notify_all();
-    heartbeat_.join();
+    t->join();
   }
 }
 
@@ -72,11 +80,74 @@ void JobRunner::HeartbeatLoop(const std::stop_token& stop) {
       heartbeat_wake_.wait_for(lock, stop, options_.heartbeat_interval, [] { return false; });
       jobs.assign(running_.begin(), running_.end());
     }
+    const auto now = std::chrono::steady_clock::now();
     for (auto& [id, running] : jobs) {
       if (stop.stop_requested()) break;
+      if (options_.job_time_limit.count() > 0 &&
+          now - running->wall_start > options_.job_time_limit && !running->time_limit_hit) {
+        running->time_limit_hit = true;
+        running->stop.request_stop();
+      }
+      // No progress since the last renewal: the worker may be hung, so let the lease run out.
+      const std::uint64_t ticks = running->ticks;
+      if (ticks == running->renewed_ticks) {
+        running->log->debug("no progress since the last lease renewal; not renewed");
+        continue;
+      }
+      running->renewed_ticks = ticks;
       Renew(id, *running);
     }
   }
+}
+
+void JobRunner::RescueLoop(const std::stop_token& stop) {
+  while (!stop.stop_requested()) {
+    {
+      std::unique_lock lock(mutex_);
+      heartbeat_wake_.wait_for(lock, stop, options_.heartbeat_interval, [] { return false; });
+    }
+    if (!stop.stop_requested()) RescueExpired();
+  }
+}
+
+void JobRunner::RescueExpired() {
+  auto expired = store_.RequeueExpired(NowMs());
+  if (!expired.ok()) {
+    logger_->error("rescuing jobs with expired leases failed: {}", expired.status().ToString());
+    return;
+  }
+  for (const JobRecord& job : *expired) {
+    std::shared_ptr<Running> hung;
+    {
+      std::lock_guard lock(mutex_);
+      const auto it = running_.find(job.id);
+      if (it != running_.end() && it->second->epoch == job.lease_epoch) {
+        hung = it->second;
+        running_.erase(it);
+      }
+    }
+    if (hung) {
+      hung->lease_lost = true;
+      hung->stop.request_stop();
+    }
+    const std::string what =
+        job.cancel_requested ? "cancelled (a cancel was pending)" : "queued to run again";
+    const std::string message = fmt::format(
+        "lease epoch {} of {} expired without progress ({} ms ago); {}", job.lease_epoch,
+        job.lease_owner.value_or("?"), NowMs() - job.lease_expires_at_ms.value_or(0), what);
+    logger_->warn("job {} rescued: {}", job.id, message);
+    AddEvent(job.id, "RESCUED", message);
+    hub_.Finished(job.id);
+  }
+  if (!expired->empty()) wake_.notify_all();
+}
+
+void JobRunner::StallForTest(Running& running, const std::stop_token& shutdown) {
+  running.log->warn("test hook --test-stall-job: this worker stops making progress");
+  while (!running.lease_lost && !shutdown.stop_requested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  running.log->warn("test hook --test-stall-job: the worker continues");
 }
 
 void JobRunner::Wake() {
@@ -133,6 +204,7 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   auto running = std::make_shared<Running>();
   running->epoch = job.lease_epoch;
   running->log = logger_->clone("job-" + job.id);
+  running->wall_start = running->last_store_write = std::chrono::steady_clock::now();
   {
     std::lock_guard lock(mutex_);
     running_[job.id] = running;
@@ -142,7 +214,6 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   // A cancel stored between the claim and the registration above is seen here.
   Renew(job.id, *running);
   hub_.Publish(job.id, job.progress);
-  running->wall_start = running->last_store_write = std::chrono::steady_clock::now();
   running->log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt,
                      job.lease_epoch);
   AddEvent(job.id, "CLAIMED",
@@ -151,12 +222,20 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   if (job.kind == JobKind::kCalibration) {
     RunCalibration(job, *running);
   } else {
-    RunSimulation(job, *running);
+    RunSimulation(job, *running, shutdown);
   }
-  hub_.Finished(job.id);
+  Unregister(job.id, *running);
+  if (!running->lease_lost) hub_.Finished(job.id);  // else the rescuer did, or a new claim runs
 }
 
-void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
+void JobRunner::Unregister(const std::string& id, const Running& running) {
+  std::lock_guard lock(mutex_);
+  const auto it = running_.find(id);
+  if (it != running_.end() && it->second.get() == &running) running_.erase(it);
+}
+
+void JobRunner::RunSimulation(const JobRecord& job, Running& running,
+                              const std::stop_token& shutdown) {
   const std::shared_ptr<spdlog::logger>& log = running.log;
   CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
   std::optional<core::Simulation> sim;
@@ -171,8 +250,10 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     auto created = core::Simulation::Create(*spec, log);
     if (!created.ok()) return created.status();
     sim.emplace(std::move(*created));
+    ++running.ticks;  // set-up done
     const std::uint64_t resumed_from =
         keeper.enabled() ? keeper.RestoreNewest(*sim).value_or(0) : 0;
+    ++running.ticks;
     keeper.StartClock();
     core::RunControl control;
     control.stop = running.stop.get_token();
@@ -197,7 +278,12 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
       }
       PublishProgress(job.id, running, progress);
     };
+    const bool stall = !options_.test_stall_job.empty() && job.name == options_.test_stall_job &&
+                       job.lease_epoch == 1;
     control.at_step_end = [&](const core::Simulation& at) {
+      if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running, shutdown);
+      if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
+      ++running.ticks;
       running.StopIfLeaseLost(keeper.MaybeWrite(at));
     };
     return sim->Run(control);
@@ -254,6 +340,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
 
 void JobRunner::PublishProgress(const std::string& id, Running& running,
                                 const JobProgress& progress) {
+  ++running.ticks;
   hub_.Publish(id, progress);
   const auto now = std::chrono::steady_clock::now();
   if (now - running.last_store_write < options_.store_progress_interval) return;
@@ -266,10 +353,7 @@ void JobRunner::PublishProgress(const std::string& id, Running& running,
 
 void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
                          const Ending& ending) {
-  {
-    std::lock_guard lock(mutex_);
-    running_.erase(job.id);  // the heartbeat renews its lease no more
-  }
+  Unregister(job.id, running);  // the heartbeat renews its lease no more
   const std::shared_ptr<spdlog::logger>& log = running.log;
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - running.wall_start).count();
@@ -286,6 +370,14 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
     stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
                            outcome.message(), {}, wall_s, NowMs());
     log->info("{}cancelled after {:.3f} s: {}", ending.kind, wall_s, outcome.message());
+  } else if (stopped && running.time_limit_hit) {
+    const std::string message = fmt::format(
+        "wall-time limit exceeded: ran {:.1f} s in this claim, the limit is {} s "
+        "(--job-time-limit-s); `seep resume` continues it from its last checkpoint",
+        wall_s, std::chrono::duration<double>(options_.job_time_limit).count());
+    stored = store_.Finish(job.id, running.epoch, JobState::kFailed, "DEADLINE_EXCEEDED", message,
+                           {}, wall_s, NowMs());
+    log->warn("{}failed: {}", ending.kind, message);
   } else if (stopped) {
     // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again.
     ending.interrupted(wall_s);

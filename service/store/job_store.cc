@@ -462,29 +462,61 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
   return now;
 }
 
+Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
+                                    std::string_view cancel_message) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt cancel,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = ?, "
+          "finished_at_ms = strftime('%s', 'now') * 1000, lease_expires_at_ms = NULL WHERE "
+          "state = 'RUNNING' AND cancel_requested = 1 AND {}",
+          where)));
+  cancel.Bind(1, cancel_message);
+  bind(cancel, 2);
+  SEEP_RETURN_IF_ERROR(cancel.Run());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare(fmt::format(
+                  "UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
+                  "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {}",
+                  where)));
+  bind(s, 1);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  return static_cast<int>(db_->Changes());
+}
+
 Result<int> JobStore::RequeueRunning(const std::string& current_owner) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   // A cancel that was pending when the previous process stopped is honoured now.
   SEEP_ASSIGN_OR_RETURN(
-      Stmt cancel,
-      db_->Prepare(
-          "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = "
-          "'cancelled while seepd was stopped', finished_at_ms = strftime('%s', 'now') * 1000, "
-          "lease_expires_at_ms = NULL WHERE state = "
-          "'RUNNING' AND cancel_requested = 1 AND lease_owner IS NOT ?"));
-  cancel.Bind(1, std::string_view(current_owner));
-  SEEP_RETURN_IF_ERROR(cancel.Run());
-  SEEP_ASSIGN_OR_RETURN(
-      Stmt s,
-      db_->Prepare("UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
-                   "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND "
-                   "lease_owner IS NOT ?"));
-  s.Bind(1, std::string_view(current_owner));
-  SEEP_RETURN_IF_ERROR(s.Run());
-  const int n = static_cast<int>(db_->Changes());
+      const int n, RequeueLocked(
+                       "lease_owner IS NOT ?",
+                       [&](Stmt& s, int index) { s.Bind(index, std::string_view(current_owner)); },
+                       "cancelled while seepd was stopped"));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return n;
+}
+
+Result<std::vector<JobRecord>> JobStore::RequeueExpired(std::int64_t now_ms) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  constexpr const char* kExpired = "lease_expires_at_ms < ?";
+  const auto bind_now = [now_ms](Stmt& s, int index) { s.Bind(index, now_ms); };
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt find, db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE state = 'RUNNING' AND {}",
+                                          kJobColumns, kExpired)));
+  bind_now(find, 1);
+  std::vector<JobRecord> expired;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, find.Step());
+    if (!row) break;
+    expired.push_back(ReadJobRow(find));
+  }
+  if (expired.empty()) return expired;
+  SEEP_RETURN_IF_ERROR(
+      RequeueLocked(kExpired, bind_now, "cancelled after its worker's lease expired").status());
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return expired;
 }
 
 }  // namespace seep::service

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -18,6 +19,7 @@
 namespace seep::service {
 
 class Db;
+class Stmt;
 using core::Result;
 using core::Status;
 
@@ -112,6 +114,10 @@ class JobStore {
   // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
   // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
   Result<int> RequeueRunning(const std::string& current_owner);
+  // While serving: jobs RUNNING under a lease that expired before now_ms (their worker died or
+  // stopped making progress) go back to QUEUED, or to CANCELLED when a cancel was pending; the
+  // old lease's writes are ABORTED from then on. Returns the rescued jobs as they were before.
+  Result<std::vector<JobRecord>> RequeueExpired(std::int64_t now_ms);
 
  private:
   explicit JobStore(std::unique_ptr<Db> db);
@@ -120,6 +126,11 @@ class JobStore {
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
   Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
+  // RUNNING jobs matching `where` (its one parameter bound by `bind(statement, index)`) go back
+  // to QUEUED, or to CANCELLED with `cancel_message` when a cancel was pending; returns how
+  // many were queued.
+  Result<int> RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
+                            std::string_view cancel_message);
 
   std::mutex mutex_;
   std::unique_ptr<Db> db_;

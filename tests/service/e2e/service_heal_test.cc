@@ -1,5 +1,6 @@
 // Failure paths that heal themselves, through the real seepd: a second seepd on a data folder
-// that is in use refuses to start and changes nothing.
+// that is in use refuses to start and changes nothing; a hung worker's job is rescued when its
+// lease expires; a job over the wall-time limit fails naming it.
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
@@ -96,6 +97,61 @@ TEST_F(ServiceHeal, SecondSeepdOnTheSameDataFolderRefusesAndTouchesNothing) {
   EXPECT_EQ(server_.Stop(SIGTERM), 0);
   Start("data", {});
   EXPECT_EQ(Get(id).state(), v1::JOB_STATE_SUCCEEDED);
+}
+
+// A hung worker: with --test-stall-job, the worker that first claims the job stops making
+// progress 1500 steps in (test-only hook: a worker thread cannot be SIGSTOPped alone, and there
+// are no remote workers). The heartbeat stops renewing its lease, the rescuer requeues the job
+// once the lease expired, the other worker claims it and continues from the newest checkpoint,
+// and the final state is bit-identical to an uninterrupted run.
+TEST_F(ServiceHeal, AHungWorkersJobIsRescuedAndEndsBitIdentical) {
+  const v1::Scene scene = LatticeScene("stalls", 1e-2);
+  Start("reference", {});
+  const v1::Job reference = WaitTerminal(Submit(scene));
+  ASSERT_EQ(reference.state(), v1::JOB_STATE_SUCCEEDED) << reference.DebugString();
+  stub_.reset();
+  ASSERT_EQ(server_.Stop(SIGTERM), 0);
+
+  Start("data", {"--workers", "2", "--lease-s", "3", "--checkpoint-every-steps", "1000",
+                 "--test-stall-job", "stalls"});
+  const std::string id = Submit(scene);
+  const v1::Job done = WaitTerminal(id);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.DebugString();
+  EXPECT_EQ(done.result().state_sha256(), reference.result().state_sha256());
+  EXPECT_EQ(done.attempt(), 1u);  // a rescue is not a new attempt
+  const std::string log = ReadFile(dir_ / "data" / "seepd.log");
+  EXPECT_NE(log.find("test hook --test-stall-job: this worker stops making progress"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("job " + id + " rescued: lease epoch 1 of seepd-"), std::string::npos) << log;
+  EXPECT_NE(log.find("(attempt 1, lease epoch 2)"), std::string::npos) << log;
+  EXPECT_NE(log.find("resumed from checkpoint ckpt-000000001000.bin at step 1000"),
+            std::string::npos)
+      << log;
+  // The hung worker woke up after the rescue and wrote nothing more.
+  EXPECT_NE(log.find("stopped after losing its lease; nothing recorded by this worker"),
+            std::string::npos)
+      << log;
+  // A job that makes progress keeps its lease (renewed by progress) however long it runs.
+  const std::string healthy = Submit(LatticeScene("healthy", 0.4));
+  const v1::Job other = WaitTerminal(healthy);
+  EXPECT_EQ(other.state(), v1::JOB_STATE_SUCCEEDED) << other.DebugString();
+  EXPECT_EQ(ReadFile(dir_ / "data" / "seepd.log").find("job " + healthy + " rescued"),
+            std::string::npos);
+}
+
+TEST_F(ServiceHeal, AJobOverTheWallTimeLimitFailsNamingTheLimit) {
+  Start("data", {"--job-time-limit-s", "1", "--checkpoint-interval-s", "0"});
+  const std::string id = Submit(LatticeScene("too-long", 1.0));
+  const v1::Job done = WaitTerminal(id);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_FAILED) << done.DebugString();
+  EXPECT_EQ(done.error().code(), "DEADLINE_EXCEEDED");
+  EXPECT_NE(done.error().message().find("wall-time limit exceeded"), std::string::npos)
+      << done.error().message();
+  EXPECT_NE(done.error().message().find("the limit is 1 s (--job-time-limit-s)"), std::string::npos)
+      << done.error().message();
+  EXPECT_GT(done.progress().step(), 0u);
+  EXPECT_LT(done.progress().fraction_done(), 1.0);
 }
 
 }  // namespace

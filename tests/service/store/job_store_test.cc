@@ -267,6 +267,48 @@ TEST_F(JobStoreTest, RequeueLeavesTheCurrentProcessesLeasesAlone) {
   EXPECT_EQ(store_->Get("a")->state, JobState::kRunning);
 }
 
+TEST_F(JobStoreTest, ExpiredLeasesAreRescuedWhileServingAndTheOldEpochCannotWrite) {
+  ASSERT_TRUE(store_->Insert(NewJob("hung")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("alive")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("cancelled")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // hung: until 1100
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // alive: renewed below
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // cancelled: until 1100
+  ASSERT_TRUE(store_->Cancel("cancelled", 1050).ok());
+  ASSERT_TRUE(store_->Heartbeat("alive", 1, 5000).ok());
+
+  auto none = store_->RequeueExpired(1099);
+  ASSERT_TRUE(none.ok()) << none.status().ToString();
+  EXPECT_TRUE(none->empty());
+
+  auto rescued = store_->RequeueExpired(1101);
+  ASSERT_TRUE(rescued.ok()) << rescued.status().ToString();
+  ASSERT_EQ(rescued->size(), 2u);
+  EXPECT_EQ((*rescued)[0].id, "hung");
+  EXPECT_EQ((*rescued)[0].lease_epoch, 1);
+  EXPECT_EQ((*rescued)[0].lease_owner, "me");
+  EXPECT_EQ((*rescued)[1].id, "cancelled");
+  EXPECT_TRUE((*rescued)[1].cancel_requested);
+
+  const JobRecord hung = *store_->Get("hung");
+  EXPECT_EQ(hung.state, JobState::kQueued);
+  EXPECT_FALSE(hung.lease_owner.has_value());
+  EXPECT_EQ(store_->Get("alive")->state, JobState::kRunning);
+  const JobRecord cancelled = *store_->Get("cancelled");
+  EXPECT_EQ(cancelled.state, JobState::kCancelled);
+  EXPECT_EQ(cancelled.error_message, "cancelled after its worker's lease expired");
+
+  // The hung worker's lease is gone: its writes are refused, the next claim gets epoch 2.
+  EXPECT_EQ(store_->Heartbeat("hung", 1, 9000).status().code(), core::StatusCode::kAborted);
+  EXPECT_EQ(store_->UpdateProgress("hung", 1, JobProgress::At(5, 0.1, 0.5, 0.0)).code(),
+            core::StatusCode::kAborted);
+  auto again = store_->ClaimNextQueued("me", 2000, 100);
+  ASSERT_TRUE(again.ok() && again->has_value());
+  EXPECT_EQ((*again)->id, "hung");
+  EXPECT_EQ((*again)->lease_epoch, 2);
+  EXPECT_TRUE(store_->RequeueExpired(2050)->empty());
+}
+
 TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
