@@ -57,10 +57,11 @@ struct Options {
   double checkpoint_interval_s = 30.0;
   std::uint32_t checkpoints_kept = 3;
   double lease_s = 30.0;
-  double job_time_limit_s = 0.0;  // 0: no limit
-  std::string test_stall_job;     // test only
-  std::string token_file;         // else SEEP_TOKEN; neither: no token
-  std::string tls_cert;           // PEM; with tls_key, serve TLS
+  double job_time_limit_s = 0.0;   // 0: no limit
+  std::string test_stall_job;      // test only
+  int test_fail_final_writes = 0;  // test only
+  std::string token_file;          // else SEEP_TOKEN; neither: no token
+  std::string tls_cert;            // PEM; with tls_key, serve TLS
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
@@ -281,9 +282,12 @@ int Run(const Options& options) {
   runner_options.job_time_limit =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
   runner_options.test_stall_job = options.test_stall_job;
-  if (!options.test_stall_job.empty()) {
-    logger->warn("test hook --test-stall-job '{}' is on: not for production",
-                 options.test_stall_job);
+  runner_options.test_fail_final_writes = options.test_fail_final_writes;
+  if (!options.test_stall_job.empty() || options.test_fail_final_writes > 0) {
+    logger->warn(
+        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}) are on: not for "
+        "production",
+        options.test_stall_job, options.test_fail_final_writes);
   }
   runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
   runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
@@ -390,6 +394,10 @@ int main(int argc, char** argv) {
          "TEST ONLY: the first worker to run a job of this name hangs 1500 steps into its run "
          "until it loses the lease")
       ->group("");  // hidden from --help
+  app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
+                 "TEST ONLY: the first N tries of writing a finished job's result fail")
+      ->check(CLI::NonNegativeNumber)
+      ->group("");
   app.add_option("--token-file", options.token_file,
                  "require 'authorization: Bearer <token>' on every SeepService call, the token "
                  "read from this file (mode 600); without it, SEEP_TOKEN is used if set");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <thread>
@@ -22,7 +23,11 @@ constexpr std::uint64_t kTestStallStep = 1500;
 
 JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
                      std::shared_ptr<spdlog::logger> logger)
-    : store_(store), hub_(hub), options_(std::move(options)), logger_(std::move(logger)) {}
+    : store_(store),
+      hub_(hub),
+      options_(std::move(options)),
+      logger_(std::move(logger)),
+      injected_final_write_failures_(options_.test_fail_final_writes) {}
 
 JobRunner::~JobRunner() { Stop(); }
 
@@ -315,8 +320,9 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running,
               step);
     AddEvent(job.id, "INTERRUPTED", fmt::format("shutdown at step {}", step));
   };
-  ending.succeed = [&](double wall_s) {
+  ending.succeed = [&](double wall_s) -> Status {
     const core::RunReport report = sim->Report();
+    SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(report.metrics, "job result"));
     // Serialized once: the final checkpoint holds the very bytes the result's hash covers.
     const std::string state = SerializeSimulationState(sim->TakeSnapshot());
     (void)keeper.Write(*sim, state);  // the final state, for exports and later jobs
@@ -325,21 +331,24 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running,
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
-    Status stored = store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
-                                             report.series.values, HexSha256(state));
-    if (stored.ok()) {
-      stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
-                             wall_s, NowMs());
-    }
+    const std::string state_sha256 = HexSha256(state);
+    const auto write_result = [&]() -> Status {
+      SEEP_RETURN_IF_ERROR(store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
+                                                    report.series.values, state_sha256));
+      return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
+                           wall_s, NowMs());
+    };
+    SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "result", true, write_result));
     log->info("succeeded in {:.3f} s after {} steps ({} checkpoints, {:.3f} s writing them)",
               wall_s, report.steps, keeper.written(), keeper.seconds_writing());
-    return stored;
+    return Status::Ok();
   };
   Conclude(job, running, outcome, ending);
 }
 
 void JobRunner::PublishProgress(const std::string& id, Running& running,
                                 const JobProgress& progress) {
+  if (running.lease_lost) return;  // the job is queued again or another claim runs it
   ++running.ticks;
   hub_.Publish(id, progress);
   const auto now = std::chrono::steady_clock::now();
@@ -384,13 +393,54 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
     return;
   } else if (outcome.ok()) {
     stored = ending.succeed(wall_s);
+    if (!stored.ok() && stored.code() != core::StatusCode::kAborted) {
+      // Never left RUNNING with a result that cannot be stored: FAILED, saying why.
+      const std::string message =
+          fmt::format("the result could not be recorded: {}", stored.message());
+      log->error("{}failed: {}", ending.kind, message);
+      const std::string code = core::StatusCodeName(stored.code());
+      stored = RetryFinalWrite(running, "failure", false, [&] {
+        return store_.Finish(job.id, running.epoch, JobState::kFailed, code, message, {}, wall_s,
+                             NowMs());
+      });
+    }
   } else {
     stored =
         store_.Finish(job.id, running.epoch, JobState::kFailed,
                       core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
     log->warn("{}failed: {}", ending.kind, outcome.ToString());
   }
-  if (!stored.ok()) log->error("could not record the outcome: {}", stored.ToString());
+  if (!stored.ok()) {
+    // Its lease is renewed no more: the rescuer queues it again once the lease expires.
+    log->error("could not record the outcome: {}", stored.ToString());
+  }
+}
+
+core::Status JobRunner::RetryFinalWrite(Running& running, const char* what, bool injectable,
+                                        const std::function<core::Status()>& write) {
+  const int attempts = std::max(1, options_.final_write_attempts);
+  auto wait = options_.final_write_backoff;
+  for (int attempt = 1;; ++attempt) {
+    int injected = injectable ? injected_final_write_failures_.load() : 0;
+    while (injected > 0 &&
+           !injected_final_write_failures_.compare_exchange_weak(injected, injected - 1)) {
+    }
+    core::Status s =
+        injected > 0 ? core::Unavailable("injected final-write failure (--test-fail-final-writes)")
+                     : write();
+    if (s.ok() || s.code() == core::StatusCode::kAborted ||
+        s.code() == core::StatusCode::kInvalidArgument) {
+      return s;
+    }
+    if (attempt >= attempts) {
+      return {s.code(),
+              fmt::format("{} not stored after {} tries: {}", what, attempts, s.message())};
+    }
+    running.log->warn("{} not stored (try {} of {}): {}; trying again in {} ms", what, attempt,
+                      attempts, s.ToString(), wait.count());
+    std::this_thread::sleep_for(wait);
+    wait *= 2;
+  }
 }
 
 void JobRunner::AddEvent(const std::string& id, const std::string& kind,

@@ -52,6 +52,12 @@ struct JobRunnerOptions {
   std::chrono::milliseconds heartbeat_interval{2000};
   // Wall time one claim of a job may run before it is FAILED with DEADLINE_EXCEEDED; 0 = none.
   std::chrono::milliseconds job_time_limit{0};
+  // A final write (result and terminal state) that fails is tried this many times in all, the
+  // waits between tries doubling from final_write_backoff; then the job is FAILED with the reason.
+  int final_write_attempts = 5;
+  std::chrono::milliseconds final_write_backoff{100};
+  // Test only: the first this many tries of final result writes fail as a store error would.
+  int test_fail_final_writes = 0;
   // Test only: a worker running a job of this name in its first claim stops making progress
   // 1500 steps into its run (as a hung worker would) until it is told it lost the lease.
   std::string test_stall_job;
@@ -101,7 +107,9 @@ class JobRunner {
     // First, for every outcome: false when the lease turned out lost (nothing is recorded).
     std::function<bool(bool stopped)> keep_state;
     std::function<void(double wall_s)> interrupted;  // shutdown: its log line and event
-    std::function<Status(double wall_s)> succeed;    // records the result and SUCCEEDED
+    // Records the result and SUCCEEDED (through RetryFinalWrite); an error other than ABORTED
+    // makes the job FAILED with it (a non-finite metric, a store that keeps failing).
+    std::function<Status(double wall_s)> succeed;
   };
 
   void WorkerLoop(const std::stop_token& stop);
@@ -127,12 +135,18 @@ class JobRunner {
   void RunCalibration(const JobRecord& job, Running& running);
   // Live progress to the hub, and to the store at most every store_progress_interval.
   void PublishProgress(const std::string& id, Running& running, const JobProgress& progress);
-  // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; for a
-  // shutdown an INTERRUPTED event only (the job stays RUNNING, so the next start queues it
-  // again); ending.succeed for a success; FAILED with the outcome otherwise.
+  // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; FAILED
+  // (DEADLINE_EXCEEDED) over the time limit; for a shutdown an INTERRUPTED event only (the job
+  // stays RUNNING, so the next start queues it again); ending.succeed for a success, and FAILED
+  // with its reason when that cannot be recorded; FAILED with the outcome otherwise.
   void Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
                 const Ending& ending);
   void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // Runs a final write until it succeeds, the lease is lost (ABORTED) or the store refuses the
+  // data (INVALID_ARGUMENT), at most final_write_attempts times with a doubling wait; the last
+  // failure says how many tries were made. `injectable`: test_fail_final_writes applies.
+  core::Status RetryFinalWrite(Running& running, const char* what, bool injectable,
+                               const std::function<core::Status()>& write);
   // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker).
   static core::Status CatchAll(const std::function<core::Status()>& body);
 
@@ -144,6 +158,7 @@ class JobRunner {
   std::condition_variable_any wake_;
   std::condition_variable_any heartbeat_wake_;  // only to end the heartbeat's wait early
   std::uint64_t wake_count_ = 0;
+  std::atomic<int> injected_final_write_failures_{0};        // from test_fail_final_writes
   std::map<std::string, std::shared_ptr<Running>> running_;  // guarded by mutex_
   std::vector<std::jthread> workers_;
   std::jthread heartbeat_;

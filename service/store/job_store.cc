@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "sqlite_handle.h"
 
 namespace seep::service {
@@ -141,6 +143,10 @@ CREATE INDEX calibration_tags_by_tag ON calibration_tags(tag, job_id);
 )sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
+
+// What a job's run produced; cleared when it is resumed or ends other than SUCCEEDED.
+constexpr const char* kResultTables[] = {"results", "result_series", "calibrations",
+                                         "calibration_tags"};
 static_assert(kMigrationCount == JobStore::kSchemaVersion);
 
 constexpr const char* kJobColumns =
@@ -175,6 +181,17 @@ JobRecord ReadJobRow(const Stmt& s) {
 }
 
 }  // namespace
+
+Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& metrics,
+                          std::string_view what) {
+  for (const auto& [name, value] : metrics) {
+    if (!std::isfinite(value)) {
+      return core::InvalidArgument(
+          fmt::format("{}: metric '{}' is not a finite number (got {})", what, name, value));
+    }
+  }
+  return Status::Ok();
+}
 
 Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
   SEEP_ASSIGN_OR_RETURN(Db db, Db::Open(path));
@@ -383,6 +400,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
     return core::Internal(
         fmt::format("store: Finish needs a terminal state, got {}", JobStateName(state)));
   }
+  SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(metrics, "store"));
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
@@ -398,6 +416,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
       .Bind(7, epoch);
   SEEP_RETURN_IF_ERROR(s.Run());
   if (db_->Changes() != 1) return LeaseLost(id, epoch);
+  if (state != JobState::kSucceeded) SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
   SEEP_ASSIGN_OR_RETURN(Stmt insert,
                         db_->Prepare("INSERT INTO results (job_id, name, value) VALUES (?, ?, ?)"));
   for (const auto& [name, value] : metrics) {
@@ -451,15 +470,20 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
                            "lease_expires_at_ms = NULL WHERE id = ?"));
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
-  for (const char* table : {"results", "result_series", "calibrations", "calibration_tags"}) {
+  SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
+  SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return now;
+}
+
+Status JobStore::ClearResultsLocked(const std::string& id) {
+  for (const char* table : kResultTables) {
     SEEP_ASSIGN_OR_RETURN(Stmt clear,
                           db_->Prepare(fmt::format("DELETE FROM {} WHERE job_id = ?", table)));
     clear.Bind(1, std::string_view(id));
     SEEP_RETURN_IF_ERROR(clear.Run());
   }
-  SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
-  SEEP_RETURN_IF_ERROR(tx.Commit());
-  return now;
+  return Status::Ok();
 }
 
 Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "job_record.h"
@@ -34,6 +35,11 @@ struct JobFilter {
   std::string name_contains;
   std::vector<JobKind> kinds;
 };
+
+// OK when every metric is a finite number; else INVALID_ARGUMENT naming the first one that is not
+// (SQLite would store a NaN as NULL). `what` starts the message ("store", "job result", ...).
+Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& metrics,
+                          std::string_view what);
 
 struct JobPage {
   std::vector<JobRecord> jobs;  // newest first, scenes left empty
@@ -63,7 +69,9 @@ class JobStore {
   // Heartbeat extends the lease and returns whether a cancel was requested.
   Result<bool> Heartbeat(const std::string& id, std::int64_t epoch, std::int64_t expires_at_ms);
   Status UpdateProgress(const std::string& id, std::int64_t epoch, const JobProgress& progress);
-  // Moves the RUNNING job to a terminal state with its metrics, in one transaction.
+  // Moves the RUNNING job to a terminal state with its metrics, in one transaction; a metric
+  // that is not finite is INVALID_ARGUMENT (nothing written). A job that ends other than
+  // SUCCEEDED keeps no result: a series or calibration records stored before are removed.
   Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                 const std::string& error_code, const std::string& error_message,
                 const std::vector<std::pair<std::string, double>>& metrics, double wall_time_s,
@@ -126,6 +134,8 @@ class JobStore {
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
   Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
+  // Removes what a run of the job produced (metrics, series, calibration records and tags).
+  Status ClearResultsLocked(const std::string& id);
   // RUNNING jobs matching `where` (its one parameter bound by `bind(statement, index)`) go back
   // to QUEUED, or to CANCELLED with `cancel_message` when a cancel was pending; returns how
   // many were queued.

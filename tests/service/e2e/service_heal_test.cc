@@ -1,6 +1,7 @@
 // Failure paths that heal themselves, through the real seepd: a second seepd on a data folder
 // that is in use refuses to start and changes nothing; a hung worker's job is rescued when its
-// lease expires; a job over the wall-time limit fails naming it.
+// lease expires; a job over the wall-time limit fails naming it; a final write that keeps failing
+// ends the job FAILED with the reason.
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
@@ -152,6 +153,30 @@ TEST_F(ServiceHeal, AJobOverTheWallTimeLimitFailsNamingTheLimit) {
       << done.error().message();
   EXPECT_GT(done.progress().step(), 0u);
   EXPECT_LT(done.progress().fraction_done(), 1.0);
+}
+
+// A final write that fails a few times is tried again and the job succeeds; one that keeps
+// failing ends the job FAILED with the reason (not RUNNING forever), and the queue moves on.
+// --test-fail-final-writes N (test only) makes the first N tries fail as a store error would;
+// each job gets 5 tries.
+TEST_F(ServiceHeal, AFailingFinalWriteIsRetriedThenTheJobFailsWithTheReason) {
+  Start("data", {"--test-fail-final-writes", "7"});
+  const v1::Job failed = WaitTerminal(Submit(LatticeScene("never-stored", 1e-3)));  // tries 1-5
+  ASSERT_EQ(failed.state(), v1::JOB_STATE_FAILED) << failed.DebugString();
+  EXPECT_EQ(failed.error().code(), "UNAVAILABLE");
+  EXPECT_EQ(failed.error().message(),
+            "the result could not be recorded: result not stored after 5 tries: injected "
+            "final-write failure (--test-fail-final-writes)");
+  EXPECT_TRUE(failed.result().metrics().empty());
+  EXPECT_TRUE(failed.result().state_sha256().empty());
+
+  const v1::Job retried = WaitTerminal(Submit(LatticeScene("stored-late", 1e-3)));  // 2 fail
+  ASSERT_EQ(retried.state(), v1::JOB_STATE_SUCCEEDED) << retried.DebugString();
+  EXPECT_FALSE(retried.result().metrics().empty());
+  EXPECT_EQ(retried.result().state_sha256().size(), 64u);
+  const std::string log = ReadFile(dir_ / "data" / "seepd.log");
+  EXPECT_EQ(Count(log, "result not stored (try 1 of 5)"), 2u) << log;
+  EXPECT_EQ(Count(log, "result not stored (try 4 of 5)"), 1u) << log;
 }
 
 }  // namespace

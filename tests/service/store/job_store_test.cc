@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace seep::service {
@@ -307,6 +308,30 @@ TEST_F(JobStoreTest, ExpiredLeasesAreRescuedWhileServingAndTheOldEpochCannotWrit
   EXPECT_EQ((*again)->id, "hung");
   EXPECT_EQ((*again)->lease_epoch, 2);
   EXPECT_TRUE(store_->RequeueExpired(2050)->empty());
+}
+
+TEST_F(JobStoreTest, ANonFiniteMetricIsRefusedNamingItAndAFailedJobKeepsNoResult) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());
+  const Status nan =
+      store_->Finish("a", 1, JobState::kSucceeded, "", "",
+                     {{"inflow_m2_per_s", 1.0}, {"permeability_m2", std::nan("")}}, 0.5, 2000);
+  EXPECT_EQ(nan.code(), core::StatusCode::kInvalidArgument);
+  EXPECT_EQ(nan.message(), "store: metric 'permeability_m2' is not a finite number (got nan)");
+  JobRecord job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kRunning);  // nothing written
+  EXPECT_TRUE(job.metrics.empty());
+  EXPECT_EQ(CheckFiniteMetrics({{"p_max", -INFINITY}}, "job result").message(),
+            "job result: metric 'p_max' is not a finite number (got -inf)");
+
+  // A series stored before a final write that then failed does not outlive a FAILED job.
+  ASSERT_TRUE(store_->StoreResultSeries("a", 1, {"time_s"}, {0.0, 1.0}, std::string(64, 'f')).ok());
+  ASSERT_TRUE(
+      store_->Finish("a", 1, JobState::kFailed, "UNAVAILABLE", "disk full", {}, 0.5, 2000).ok());
+  job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kFailed);
+  EXPECT_TRUE(job.state_sha256.empty());
+  EXPECT_TRUE(job.series_values.empty());
 }
 
 TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
