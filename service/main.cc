@@ -60,8 +60,10 @@ struct Options {
   double job_time_limit_s = 0.0;   // 0: no limit
   std::string test_stall_job;      // test only
   int test_fail_final_writes = 0;  // test only
-  std::string token_file;          // else SEEP_TOKEN; neither: no token
-  std::string tls_cert;            // PEM; with tls_key, serve TLS
+  std::string test_crash_job;      // test only
+  int max_interruptions = 3;
+  std::string token_file;  // else SEEP_TOKEN; neither: no token
+  std::string tls_cert;    // PEM; with tls_key, serve TLS
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
@@ -238,11 +240,17 @@ int Run(const Options& options) {
   std::random_device entropy;
   std::mt19937_64 rng((static_cast<std::uint64_t>(entropy()) << 32) ^ entropy());
   const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), rng());
-  if (auto requeued = (*store)->RequeueRunning(lease_owner); !requeued.ok()) {
+  std::vector<seep::service::CrashLoopFailure> crash_loops;
+  if (auto requeued =
+          (*store)->RequeueRunning(lease_owner, options.max_interruptions, &crash_loops);
+      !requeued.ok()) {
     logger->critical("recovery failed: {}", requeued.status().ToString());
     return 1;
   } else if (*requeued > 0) {
     logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
+  }
+  for (const auto& failure : crash_loops) {
+    logger->warn("job {} failed: {}", failure.id, failure.message);
   }
 
   auto token = LoadToken(options);
@@ -283,11 +291,14 @@ int Run(const Options& options) {
       std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
   runner_options.test_stall_job = options.test_stall_job;
   runner_options.test_fail_final_writes = options.test_fail_final_writes;
-  if (!options.test_stall_job.empty() || options.test_fail_final_writes > 0) {
+  runner_options.test_crash_job = options.test_crash_job;
+  runner_options.max_interruptions = options.max_interruptions;
+  if (!options.test_stall_job.empty() || options.test_fail_final_writes > 0 ||
+      !options.test_crash_job.empty()) {
     logger->warn(
-        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}) are on: not for "
-        "production",
-        options.test_stall_job, options.test_fail_final_writes);
+        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}, --test-crash-job '{}') "
+        "are on: not for production",
+        options.test_stall_job, options.test_fail_final_writes, options.test_crash_job);
   }
   runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
   runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
@@ -394,6 +405,15 @@ int main(int argc, char** argv) {
          "TEST ONLY: the first worker to run a job of this name hangs 1500 steps into its run "
          "until it loses the lease")
       ->group("");  // hidden from --help
+  app.add_option("--max-interruptions", options.max_interruptions,
+                 "interruptions in a row without progress (crashes, dead or hung workers; not "
+                 "shutdowns) after which a job is FAILED instead of run again")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--test-crash-job", options.test_crash_job,
+                 "TEST ONLY: a worker running a job of this name ends seepd 1500 steps into its "
+                 "run")
+      ->group("");
   app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
                  "TEST ONLY: the first N tries of writing a finished job's result fail")
       ->check(CLI::NonNegativeNumber)

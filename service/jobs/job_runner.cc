@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <exception>
+#include <set>
 #include <thread>
 
 #include "codec/scene_codec.h"
@@ -17,7 +19,8 @@
 
 namespace seep::service {
 namespace {
-// Where --test-stall-job hangs a run: this many steps into the claim.
+// Where --test-stall-job hangs a run and --test-crash-job ends the process: this many steps
+// into the claim.
 constexpr std::uint64_t kTestStallStep = 1500;
 }  // namespace
 
@@ -116,10 +119,16 @@ void JobRunner::RescueLoop(const std::stop_token& stop) {
 }
 
 void JobRunner::RescueExpired() {
-  auto expired = store_.RequeueExpired(NowMs());
+  std::vector<CrashLoopFailure> crash_loops;
+  auto expired = store_.RequeueExpired(NowMs(), options_.max_interruptions, &crash_loops);
   if (!expired.ok()) {
     logger_->error("rescuing jobs with expired leases failed: {}", expired.status().ToString());
     return;
+  }
+  std::set<std::string> failed;
+  for (const CrashLoopFailure& f : crash_loops) {
+    logger_->warn("job {} failed: {}", f.id, f.message);
+    failed.insert(f.id);
   }
   for (const JobRecord& job : *expired) {
     std::shared_ptr<Running> hung;
@@ -135,8 +144,9 @@ void JobRunner::RescueExpired() {
       hung->lease_lost = true;
       hung->stop.request_stop();
     }
-    const std::string what =
-        job.cancel_requested ? "cancelled (a cancel was pending)" : "queued to run again";
+    const std::string what = failed.contains(job.id) ? "failed (interrupted too often)"
+                             : job.cancel_requested  ? "cancelled (a cancel was pending)"
+                                                     : "queued to run again";
     const std::string message = fmt::format(
         "lease epoch {} of {} expired without progress ({} ms ago); {}", job.lease_epoch,
         job.lease_owner.value_or("?"), NowMs() - job.lease_expires_at_ms.value_or(0), what);
@@ -285,8 +295,13 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running,
     };
     const bool stall = !options_.test_stall_job.empty() && job.name == options_.test_stall_job &&
                        job.lease_epoch == 1;
+    const bool crash = !options_.test_crash_job.empty() && job.name == options_.test_crash_job;
     control.at_step_end = [&](const core::Simulation& at) {
       if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running, shutdown);
+      if (crash && at.step() == resumed_from + kTestStallStep) {
+        log->critical("test hook --test-crash-job: ending the process");
+        std::_Exit(86);
+      }
       if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
       ++running.ticks;
       running.StopIfLeaseLost(keeper.MaybeWrite(at));
@@ -388,8 +403,12 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
                            {}, wall_s, NowMs());
     log->warn("{}failed: {}", ending.kind, message);
   } else if (stopped) {
-    // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again.
+    // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again,
+    // its lease released (a clean stop is not an interruption without progress).
     ending.interrupted(wall_s);
+    if (auto s = store_.ReleaseLease(job.id, running.epoch); !s.ok()) {
+      log->warn("lease not released: {}", s.ToString());
+    }
     return;
   } else if (outcome.ok()) {
     stored = ending.succeed(wall_s);

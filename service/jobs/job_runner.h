@@ -56,6 +56,12 @@ struct JobRunnerOptions {
   // waits between tries doubling from final_write_backoff; then the job is FAILED with the reason.
   int final_write_attempts = 5;
   std::chrono::milliseconds final_write_backoff{100};
+  // Interruptions in a row without progress after which a job is FAILED (JobStore::
+  // RequeueRunning); the rescuer applies it, seepd passes it to the start-up requeue too.
+  int max_interruptions = 3;
+  // Test only: a worker running a job of this name ends the process (_Exit(86), as a crash
+  // would) 1500 steps into its run.
+  std::string test_crash_job;
   // Test only: the first this many tries of final result writes fail as a store error would.
   int test_fail_final_writes = 0;
   // Test only: a worker running a job of this name in its first claim stops making progress

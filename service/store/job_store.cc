@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "sqlite_handle.h"
@@ -140,6 +141,12 @@ CREATE TABLE calibration_tags (
   PRIMARY KEY (job_id, tag)
 ) STRICT;
 CREATE INDEX calibration_tags_by_tag ON calibration_tags(tag, job_id);
+)sql",
+    // v5: interruptions without progress (crash loops): how many in a row, and the newest
+    // checkpoint step at the last one (-1: none yet).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN interruptions INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN interrupted_at_step INTEGER NOT NULL DEFAULT -1;
 )sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
@@ -375,6 +382,16 @@ Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
   return cancel_requested;
 }
 
+Status JobStore::ReleaseLease(const std::string& id, std::int64_t epoch) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = NULL WHERE id "
+                                             "= ? AND lease_epoch = ? AND state = 'RUNNING'"));
+  s.Bind(1, std::string_view(id)).Bind(2, epoch);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  if (db_->Changes() != 1) return LeaseLost(id, epoch);
+  return Status::Ok();
+}
+
 Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
                                 const JobProgress& progress) {
   std::lock_guard lock(mutex_);
@@ -463,11 +480,13 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
         "job {} is {}; only FAILED or CANCELLED jobs can be resumed", id, JobStateName(job.state)));
   }
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
-                           "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
-                           "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
-                           "error_message = '', wall_time_s = 0, lease_owner = NULL, "
-                           "lease_expires_at_ms = NULL WHERE id = ?"));
+      Stmt s,
+      db_->Prepare(
+          "UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
+          "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
+          "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
+          "error_message = '', wall_time_s = 0, lease_owner = NULL, "
+          "lease_expires_at_ms = NULL, interruptions = 0, interrupted_at_step = -1 WHERE id = ?"));
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
@@ -487,7 +506,8 @@ Status JobStore::ClearResultsLocked(const std::string& id) {
 }
 
 Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
-                                    std::string_view cancel_message) {
+                                    std::string_view cancel_message, int max_interruptions,
+                                    std::vector<CrashLoopFailure>* crash_loops) {
   SEEP_ASSIGN_OR_RETURN(
       Stmt cancel,
       db_->Prepare(fmt::format(
@@ -498,6 +518,45 @@ Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(
   cancel.Bind(1, cancel_message);
   bind(cancel, 2);
   SEEP_RETURN_IF_ERROR(cancel.Run());
+  // An unreleased lease is an interruption; without a newer checkpoint, one without progress.
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt count,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET interruptions = CASE WHEN mark = interrupted_at_step THEN "
+          "interruptions + 1 ELSE 1 END, interrupted_at_step = mark FROM (SELECT j.id AS mark_id, "
+          "COALESCE((SELECT MAX(c.step) FROM checkpoints c WHERE c.job_id = j.id), 0) AS mark "
+          "FROM jobs j) WHERE mark_id = jobs.id AND state = 'RUNNING' AND lease_expires_at_ms IS "
+          "NOT NULL AND {}",
+          where)));
+  bind(count, 1);
+  SEEP_RETURN_IF_ERROR(count.Run());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt fail,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET state = 'FAILED', error_code = 'ABORTED', error_message = "
+          "printf('interrupted %d times in a row without progress (a crash, a hung or dead "
+          "worker; no checkpoint beyond step %d): it may be what brings seepd down, so it is not "
+          "run again (see its events; `seep resume` tries once more)', interruptions, "
+          "interrupted_at_step), finished_at_ms = strftime('%s', 'now') * 1000, "
+          "lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND interruptions >= ? AND {} "
+          "RETURNING id, error_message",
+          where)));
+  fail.Bind(1, static_cast<std::int64_t>(std::max(1, max_interruptions)));
+  bind(fail, 2);
+  std::vector<CrashLoopFailure> failed;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, fail.Step());
+    if (!row) break;
+    failed.push_back({fail.ColumnText(0), fail.ColumnText(1)});
+  }
+  for (const CrashLoopFailure& f : failed) {
+    SEEP_ASSIGN_OR_RETURN(
+        Stmt event, db_->Prepare("INSERT INTO events (job_id, at_ms, kind, message) VALUES (?, "
+                                 "strftime('%s', 'now') * 1000, 'INTERRUPTED_TOO_OFTEN', ?)"));
+    event.Bind(1, std::string_view(f.id)).Bind(2, std::string_view(f.message));
+    SEEP_RETURN_IF_ERROR(event.Run());
+  }
+  if (crash_loops != nullptr) crash_loops->insert(crash_loops->end(), failed.begin(), failed.end());
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format(
                   "UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
@@ -508,7 +567,8 @@ Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(
   return static_cast<int>(db_->Changes());
 }
 
-Result<int> JobStore::RequeueRunning(const std::string& current_owner) {
+Result<int> JobStore::RequeueRunning(const std::string& current_owner, int max_interruptions,
+                                     std::vector<CrashLoopFailure>* crash_loops) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   // A cancel that was pending when the previous process stopped is honoured now.
@@ -516,12 +576,13 @@ Result<int> JobStore::RequeueRunning(const std::string& current_owner) {
       const int n, RequeueLocked(
                        "lease_owner IS NOT ?",
                        [&](Stmt& s, int index) { s.Bind(index, std::string_view(current_owner)); },
-                       "cancelled while seepd was stopped"));
+                       "cancelled while seepd was stopped", max_interruptions, crash_loops));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return n;
 }
 
-Result<std::vector<JobRecord>> JobStore::RequeueExpired(std::int64_t now_ms) {
+Result<std::vector<JobRecord>> JobStore::RequeueExpired(
+    std::int64_t now_ms, int max_interruptions, std::vector<CrashLoopFailure>* crash_loops) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   constexpr const char* kExpired = "lease_expires_at_ms < ?";
@@ -537,8 +598,10 @@ Result<std::vector<JobRecord>> JobStore::RequeueExpired(std::int64_t now_ms) {
     expired.push_back(ReadJobRow(find));
   }
   if (expired.empty()) return expired;
-  SEEP_RETURN_IF_ERROR(
-      RequeueLocked(kExpired, bind_now, "cancelled after its worker's lease expired").status());
+  SEEP_RETURN_IF_ERROR(RequeueLocked(kExpired, bind_now,
+                                     "cancelled after its worker's lease expired",
+                                     max_interruptions, crash_loops)
+                           .status());
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return expired;
 }

@@ -46,9 +46,17 @@ struct JobPage {
   std::optional<std::int64_t> next_cursor;
 };
 
+// A job that crash-looped: FAILED by a requeue, with the reason recorded on it.
+struct CrashLoopFailure {
+  std::string id;
+  std::string message;
+};
+
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 4;
+  static constexpr int kSchemaVersion = 5;
+  // How many interruptions in a row without progress fail a job (see RequeueRunning).
+  static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
 
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
@@ -121,11 +129,27 @@ class JobStore {
 
   // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
   // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
-  Result<int> RequeueRunning(const std::string& current_owner);
+  //
+  // Both requeues count interruptions: a job whose lease was not released (a crash, a hung or
+  // dead worker; not a shutdown, see ReleaseLease) and whose newest checkpoint is at the same step
+  // as at its previous interruption was interrupted once more without progress; at
+  // max_interruptions in a row it is FAILED (ABORTED, the count and step in its message, an
+  // INTERRUPTED_TOO_OFTEN event) instead of queued, so that a job that crashes seepd does not run
+  // first on every restart. Those are appended to *crash_loops when given.
+  Result<int> RequeueRunning(const std::string& current_owner,
+                             int max_interruptions = kDefaultMaxInterruptions,
+                             std::vector<CrashLoopFailure>* crash_loops = nullptr);
   // While serving: jobs RUNNING under a lease that expired before now_ms (their worker died or
   // stopped making progress) go back to QUEUED, or to CANCELLED when a cancel was pending; the
-  // old lease's writes are ABORTED from then on. Returns the rescued jobs as they were before.
-  Result<std::vector<JobRecord>> RequeueExpired(std::int64_t now_ms);
+  // old lease's writes are ABORTED from then on. Returns the rescued jobs as they were before
+  // (a crash-looping one is FAILED instead, as in RequeueRunning).
+  Result<std::vector<JobRecord>> RequeueExpired(
+      std::int64_t now_ms, int max_interruptions = kDefaultMaxInterruptions,
+      std::vector<CrashLoopFailure>* crash_loops = nullptr);
+  // A worker stopped by shutdown leaves its job RUNNING for the next start but releases the
+  // lease (no expiry), so that the interruption does not count as one without progress.
+  // Fenced by the lease epoch.
+  Status ReleaseLease(const std::string& id, std::int64_t epoch);
 
  private:
   explicit JobStore(std::unique_ptr<Db> db);
@@ -140,7 +164,8 @@ class JobStore {
   // to QUEUED, or to CANCELLED with `cancel_message` when a cancel was pending; returns how
   // many were queued.
   Result<int> RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
-                            std::string_view cancel_message);
+                            std::string_view cancel_message, int max_interruptions,
+                            std::vector<CrashLoopFailure>* crash_loops);
 
   std::mutex mutex_;
   std::unique_ptr<Db> db_;

@@ -1,7 +1,7 @@
 // Failure paths that heal themselves, through the real seepd: a second seepd on a data folder
 // that is in use refuses to start and changes nothing; a hung worker's job is rescued when its
 // lease expires; a job over the wall-time limit fails naming it; a final write that keeps failing
-// ends the job FAILED with the reason.
+// ends the job FAILED with the reason; a job that crashes seepd each time fails after three.
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
@@ -177,6 +177,46 @@ TEST_F(ServiceHeal, AFailingFinalWriteIsRetriedThenTheJobFailsWithTheReason) {
   const std::string log = ReadFile(dir_ / "data" / "seepd.log");
   EXPECT_EQ(Count(log, "result not stored (try 1 of 5)"), 2u) << log;
   EXPECT_EQ(Count(log, "result not stored (try 4 of 5)"), 1u) << log;
+}
+
+// A job that brings seepd down each time it runs (--test-crash-job, test only: _Exit 1500 steps
+// in, before any checkpoint) is run again after each restart until its third interruption
+// without progress; the next start FAILS it with that history and runs the jobs queued behind it.
+TEST_F(ServiceHeal, AJobThatCrashesSeepdEachTimeFailsAfterThreeAndTheQueueMovesOn) {
+  const std::vector<std::string> flags = {"--test-crash-job", "crasher"};
+  Start("data", flags);
+  const std::string crasher = Submit(LatticeScene("crasher", 1e-2));
+  const std::string after = Submit(LatticeScene("after", 1e-3));
+  int crashes = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(180);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (const int status = server_.PollExit(); status >= 0) {
+      EXPECT_EQ(status, 86);
+      ++crashes;
+      ASSERT_LE(crashes, 3) << "the crash loop did not end";
+      Start("data", flags);
+      continue;
+    }
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    v1::GetJobRequest request;
+    request.set_id(after);
+    v1::GetJobResponse response;
+    if (stub_->GetJob(&ctx, request, &response).ok() && IsTerminalState(response.job().state())) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(crashes, 3);
+  const v1::Job failed = Get(crasher);
+  ASSERT_EQ(failed.state(), v1::JOB_STATE_FAILED) << failed.DebugString();
+  EXPECT_EQ(failed.error().code(), "ABORTED");
+  EXPECT_EQ(failed.error().message().rfind("interrupted 3 times in a row without progress", 0), 0u)
+      << failed.error().message();
+  EXPECT_EQ(Get(after).state(), v1::JOB_STATE_SUCCEEDED);
+  const std::string log = ReadFile(dir_ / "data" / "seepd.log");
+  EXPECT_EQ(Count(log, "test hook --test-crash-job: ending the process"), 3u) << log;
+  EXPECT_NE(log.find("job " + crasher + " failed: interrupted 3 times"), std::string::npos) << log;
 }
 
 }  // namespace

@@ -334,6 +334,55 @@ TEST_F(JobStoreTest, ANonFiniteMetricIsRefusedNamingItAndAFailedJobKeepsNoResult
   EXPECT_TRUE(job.series_values.empty());
 }
 
+TEST_F(JobStoreTest, ThreeInterruptionsInARowWithoutProgressFailTheJob) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const auto interrupt = [&](const std::string& owner) {
+    auto claimed = store_->ClaimNextQueued(owner, 1000, 100);
+    EXPECT_TRUE(claimed.ok() && claimed->has_value());
+    store_.reset();  // the process "dies" with the job RUNNING
+    auto reopened = JobStore::Open(path_);
+    EXPECT_TRUE(reopened.ok());
+    store_ = std::move(*reopened);
+    std::vector<CrashLoopFailure> failed;
+    EXPECT_TRUE(store_->RequeueRunning(owner + "-next", 3, &failed).ok());
+    return failed;
+  };
+  EXPECT_TRUE(interrupt("p1").empty());
+  EXPECT_TRUE(interrupt("p2").empty());
+  // Progress (a newer checkpoint) starts the count again.
+  ASSERT_TRUE(store_->ClaimNextQueued("p3", 1000, 100).ok());
+  CheckpointRecord checkpoint;
+  checkpoint.step = 40;
+  checkpoint.path = "/nowhere/ckpt-40.bin";
+  ASSERT_TRUE(store_->RecordCheckpoint("a", 3, checkpoint, 3).ok());
+  EXPECT_EQ(*store_->RequeueRunning("p3-next"), 1);
+  EXPECT_TRUE(interrupt("p4").empty());
+  // A shutdown releases the lease: not an interruption without progress.
+  ASSERT_TRUE(store_->ClaimNextQueued("p5", 1000, 100).ok());
+  ASSERT_TRUE(store_->ReleaseLease("a", 5).ok());
+  EXPECT_EQ(*store_->RequeueRunning("p5-next"), 1);
+  EXPECT_EQ(store_->ReleaseLease("a", 5).code(), core::StatusCode::kAborted);
+  const std::vector<CrashLoopFailure> failed = interrupt("p6");  // third at step 40
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].id, "a");
+  const JobRecord job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kFailed);
+  EXPECT_EQ(job.error_code, "ABORTED");
+  EXPECT_EQ(job.error_message, failed[0].message);
+  EXPECT_EQ(job.error_message.rfind("interrupted 3 times in a row without progress (a crash, a "
+                                    "hung or dead worker; no checkpoint beyond step 40)",
+                                    0),
+            0u)
+      << job.error_message;
+  const auto events = *store_->ListEvents("a");
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().kind, "INTERRUPTED_TOO_OFTEN");
+  // Resume gives it a fresh count.
+  ASSERT_TRUE(store_->Resume("a").ok());
+  EXPECT_TRUE(interrupt("p7").empty());
+  EXPECT_EQ(store_->Get("a")->state, JobState::kQueued);
+}
+
 TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
@@ -463,7 +512,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 4);
+  EXPECT_EQ(JobStore::kSchemaVersion, 5);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }
