@@ -148,6 +148,11 @@ CREATE INDEX calibration_tags_by_tag ON calibration_tags(tag, job_id);
 ALTER TABLE jobs ADD COLUMN interruptions INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN interrupted_at_step INTEGER NOT NULL DEFAULT -1;
 )sql",
+    // v6: job priorities (the queue is claimed by priority, then by age).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX jobs_queue ON jobs(state, priority DESC);  -- rowid is in every index
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -159,8 +164,8 @@ static_assert(kMigrationCount == JobStore::kSchemaVersion);
 constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
-    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind";
-constexpr int kSceneColumn = 21;  // after kJobColumns
+    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority";
+constexpr int kSceneColumn = 22;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -184,6 +189,7 @@ JobRecord ReadJobRow(const Stmt& s) {
   job.lease_epoch = s.ColumnInt(18);
   if (!s.ColumnIsNull(19)) job.lease_expires_at_ms = s.ColumnInt(19);
   job.kind = ParseJobKind(s.ColumnText(20)).value_or(JobKind::kSimulation);
+  job.priority = static_cast<std::int32_t>(s.ColumnInt(21));
   return job;
 }
 
@@ -259,15 +265,17 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
     }
   }
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
-                           "created_at_ms, kind) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?)"));
+      Stmt s,
+      db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
+                   "created_at_ms, kind, priority) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?, ?)"));
   s.Bind(1, std::string_view(job.id))
       .Bind(2, job.request_id)
       .Bind(3, std::string_view(job.name))
       .BindBlob(4, job.scene)
       .Bind(5, std::string_view(job.build_id))
       .Bind(6, job.created_at_ms)
-      .Bind(7, std::string_view(JobKindName(job.kind)));
+      .Bind(7, std::string_view(JobKindName(job.kind)))
+      .Bind(8, static_cast<std::int64_t>(job.priority));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_RETURN_IF_ERROR(tx.Commit());
   JobRecord stored = job;
@@ -347,10 +355,12 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& ow
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
-                           "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
-                           "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY rowid LIMIT 1) "
-                           "RETURNING id"));
+      Stmt s,
+      db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
+                   "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
+                   "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY priority DESC, rowid "
+                   "LIMIT 1) "
+                   "RETURNING id"));
   s.Bind(1, now_ms).Bind(2, std::string_view(owner)).Bind(3, now_ms + lease_ms);
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return std::optional<JobRecord>();

@@ -54,7 +54,7 @@ struct CrashLoopFailure {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 5;
+  static constexpr int kSchemaVersion = 6;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
@@ -68,8 +68,8 @@ class JobStore {
   Result<JobPage> List(std::uint32_t limit, std::optional<std::int64_t> cursor,
                        const JobFilter& filter = {});
 
-  // Moves the oldest QUEUED job to RUNNING under a new lease held by owner until
-  // now_ms + lease_ms (lease_epoch + 1) and returns it.
+  // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
+  // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it.
   Result<std::optional<JobRecord>> ClaimNextQueued(const std::string& owner, std::int64_t now_ms,
                                                    std::int64_t lease_ms);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken

@@ -5,7 +5,9 @@
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <regex>
 
 #include "grpc_seepd_fixture.h"
 
@@ -217,6 +219,70 @@ TEST_F(ServiceHeal, AJobThatCrashesSeepdEachTimeFailsAfterThreeAndTheQueueMovesO
   const std::string log = ReadFile(dir_ / "data" / "seepd.log");
   EXPECT_EQ(Count(log, "test hook --test-crash-job: ending the process"), 3u) << log;
   EXPECT_NE(log.find("job " + crasher + " failed: interrupted 3 times"), std::string::npos) << log;
+}
+
+// Priorities through the CLI: queued jobs run highest priority first, in submission order within
+// one; an out-of-range priority is refused naming the field, and nothing is stored.
+TEST_F(ServiceHeal, QueuedJobsRunByPriorityThenInSubmissionOrder) {
+  Start("data", {"--workers", "1"});
+  // Holds the only worker until the four are queued; then cancelled.
+  const std::string blocker = Submit(LatticeScene("blocker", 100.0));
+  ASSERT_EQ(
+      WaitFor(blocker, [](const v1::Job& j) { return j.state() == v1::JOB_STATE_RUNNING; }).state(),
+      v1::JOB_STATE_RUNNING);
+  std::string text;
+  ASSERT_TRUE(google::protobuf::TextFormat::PrintToString(LatticeScene("quick", 1e-3), &text));
+  const std::string scene_file = (dir_ / "quick.textproto").string();
+  std::ofstream(scene_file) << text;
+  const std::string port = ReadFile(dir_ / "data.port");
+  const auto submit = [&](const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> argv = {
+        SEEP_CLI_PATH, "--server", "127.0.0.1:" + port, "submit", scene_file, "--name", name};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    const CommandResult run = RunCommand(argv);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    std::smatch m;
+    return std::regex_search(run.output, m, std::regex("job (j-[0-9a-f]+)")) ? m[1].str() : "";
+  };
+  const std::string low = submit("low", {"--priority", "-3"});
+  const std::string first = submit("first", {});
+  const std::string high = submit("high", {"--priority", "7"});
+  const std::string second = submit("second", {"--priority", "0"});
+
+  const CommandResult bad = RunCommand(
+      {SEEP_CLI_PATH, "--server", "127.0.0.1:" + port, "submit", scene_file, "--priority", "5000"});
+  EXPECT_EQ(bad.exit_code, 3) << bad.output;
+  EXPECT_NE(bad.output.find("priority: must be between -1000 and 1000 (got 5000)"),
+            std::string::npos)
+      << bad.output;
+
+  {
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    v1::CancelJobRequest request;
+    request.set_id(blocker);
+    v1::CancelJobResponse response;
+    ASSERT_TRUE(stub_->CancelJob(&ctx, request, &response).ok());
+  }
+  std::vector<std::pair<std::int64_t, std::string>> started;
+  for (const std::string& id : {low, first, high, second}) {
+    const v1::Job job = WaitTerminal(id);
+    ASSERT_EQ(job.state(), v1::JOB_STATE_SUCCEEDED) << job.DebugString();
+    started.emplace_back(job.started_at().seconds() * 1000000000 + job.started_at().nanos(),
+                         job.name());
+  }
+  EXPECT_EQ(Get(high).priority(), 7);
+  std::sort(started.begin(), started.end());
+  std::vector<std::string> order;
+  for (const auto& [at, name] : started) order.push_back(name);
+  EXPECT_EQ(order, (std::vector<std::string>{"high", "first", "second", "low"}));
+  // The refused submit stored nothing: the blocker and the four.
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  v1::ListJobsRequest request;
+  v1::ListJobsResponse response;
+  ASSERT_TRUE(stub_->ListJobs(&ctx, request, &response).ok());
+  EXPECT_EQ(response.jobs_size(), 5);
 }
 
 }  // namespace

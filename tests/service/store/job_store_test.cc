@@ -383,6 +383,26 @@ TEST_F(JobStoreTest, ThreeInterruptionsInARowWithoutProgressFailTheJob) {
   EXPECT_EQ(store_->Get("a")->state, JobState::kQueued);
 }
 
+TEST_F(JobStoreTest, ClaimTakesTheHighestPriorityFirstAndTheOldestWithinOne) {
+  const std::vector<std::pair<std::string, std::int32_t>> jobs = {
+      {"low", -5}, {"first-default", 0}, {"high", 7}, {"second-default", 0}, {"higher", 9}};
+  for (const auto& [id, priority] : jobs) {
+    JobRecord job = NewJob(id);
+    job.priority = priority;
+    ASSERT_TRUE(store_->Insert(job).ok());
+  }
+  EXPECT_EQ(store_->Get("high")->priority, 7);
+  std::vector<std::string> order;
+  for (;;) {
+    auto claimed = store_->ClaimNextQueued("w", 1000, 100);
+    ASSERT_TRUE(claimed.ok());
+    if (!claimed->has_value()) break;
+    order.push_back((*claimed)->id);
+  }
+  EXPECT_EQ(order,
+            (std::vector<std::string>{"higher", "high", "first-default", "second-default", "low"}));
+}
+
 TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
@@ -512,7 +532,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 5);
+  EXPECT_EQ(JobStore::kSchemaVersion, 6);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }
