@@ -173,6 +173,7 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   }
   if (!options.name.empty()) request.mutable_scene()->set_name(options.name);
   request.set_request_id(options.request_id.empty() ? NewRequestId() : options.request_id);
+  request.set_priority(options.priority);
 
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;

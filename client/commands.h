@@ -49,6 +49,7 @@ struct SubmitOptions {
   std::string scene_file;
   std::string name;
   std::string request_id;
+  int priority = 0;
   bool watch = false;
 };
 

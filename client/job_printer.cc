@@ -38,6 +38,7 @@ std::string FormatJob(const v1::Job& job) {
                        job.progress().time_s(), 100.0 * job.progress().fraction_done());
   }
   out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
+  if (job.priority() != 0) out += fmt::format("priority  {}\n", job.priority());
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
   }

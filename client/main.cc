@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   submit_cmd->add_option("--name", submit.name, "job name (default: the scene's name)");
   submit_cmd->add_option("--request-id", submit.request_id,
                          "idempotency key: submitting it again returns the same job");
+  submit_cmd->add_option("--priority", submit.priority,
+                         "queued jobs run highest priority first (-1000 to 1000; default 0)");
   submit_cmd->add_flag("--watch", submit.watch, "follow the job until it finishes");
 
   std::string job_id;

@@ -1,5 +1,6 @@
 // seepd: the seep job server. Flags, logging sinks, the store, the worker pool and the gRPC
 // server; SIGINT/SIGTERM stop it gracefully (running jobs are left to resume on restart).
+#include <fcntl.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -7,11 +8,16 @@
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -50,6 +56,12 @@ struct Options {
   std::uint64_t checkpoint_every_steps = 0;
   double checkpoint_interval_s = 30.0;
   std::uint32_t checkpoints_kept = 3;
+  double lease_s = 30.0;
+  double job_time_limit_s = 0.0;   // 0: no limit
+  std::string test_stall_job;      // test only
+  int test_fail_final_writes = 0;  // test only
+  std::string test_crash_job;      // test only
+  int max_interruptions = 3;
   std::string token_file;  // else SEEP_TOKEN; neither: no token
   std::string tls_cert;    // PEM; with tls_key, serve TLS
   std::string tls_key;
@@ -137,6 +149,53 @@ bool WritePortFile(const std::string& path, int port) {
   return !ec;
 }
 
+// Exit status of a seepd that finds its data folder held by another one.
+constexpr int kExitDataDirInUse = 75;
+
+// One seepd per data folder: an exclusive flock on <data-dir>/seepd.lock, held (the descriptor
+// left open) for the life of the process and released by the kernel however it ends, kill -9
+// included. The file holds the holder's pid, for the message of the next one. Returns the
+// descriptor, or -1 after printing why (to stderr only: a refused seepd writes nothing into the
+// folder, not even its log).
+int LockDataDir(const std::string& data_dir, bool& in_use) {
+  in_use = false;
+  const std::string path = (std::filesystem::path(data_dir) / "seepd.lock").string();
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    std::fprintf(stderr, "seepd: --data-dir %s: cannot open %s: %s\n", data_dir.c_str(),
+                 path.c_str(), std::strerror(errno));
+    return -1;
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    if (error == EWOULDBLOCK) {
+      char pid[32] = {};
+      const ssize_t n = ::pread(fd, pid, sizeof pid - 1, 0);
+      std::string holder = n > 0 ? std::string(pid, static_cast<std::size_t>(n)) : "";
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
+      std::fprintf(stderr,
+                   "seepd: --data-dir %s is in use by another seepd (pid %s, lock %s); stop it "
+                   "or choose another --data-dir. Nothing was changed.\n",
+                   data_dir.c_str(), holder.empty() ? "unknown" : holder.c_str(), path.c_str());
+      in_use = true;
+    } else {
+      std::fprintf(stderr, "seepd: --data-dir %s: cannot lock %s: %s\n", data_dir.c_str(),
+                   path.c_str(), std::strerror(error));
+    }
+    ::close(fd);
+    return -1;
+  }
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd, 0) != 0 ||
+      ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+    std::fprintf(stderr, "seepd: --data-dir %s: cannot write %s: %s\n", data_dir.c_str(),
+                 path.c_str(), std::strerror(errno));
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
 int Run(const Options& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.data_dir, ec);
@@ -145,6 +204,9 @@ int Run(const Options& options) {
                  ec.message().c_str());
     return 2;
   }
+  // Before anything else touches the folder (log, database, recovery of interrupted jobs).
+  bool in_use = false;
+  if (LockDataDir(options.data_dir, in_use) < 0) return in_use ? kExitDataDirInUse : 2;
   auto logger = MakeLogger(options);
   seep::core::SetLogger(logger->clone("core"));
 
@@ -178,11 +240,17 @@ int Run(const Options& options) {
   std::random_device entropy;
   std::mt19937_64 rng((static_cast<std::uint64_t>(entropy()) << 32) ^ entropy());
   const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), rng());
-  if (auto requeued = (*store)->RequeueRunning(lease_owner); !requeued.ok()) {
+  std::vector<seep::service::CrashLoopFailure> crash_loops;
+  if (auto requeued =
+          (*store)->RequeueRunning(lease_owner, options.max_interruptions, &crash_loops);
+      !requeued.ok()) {
     logger->critical("recovery failed: {}", requeued.status().ToString());
     return 1;
   } else if (*requeued > 0) {
     logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
+  }
+  for (const auto& failure : crash_loops) {
+    logger->warn("job {} failed: {}", failure.id, failure.message);
   }
 
   auto token = LoadToken(options);
@@ -214,6 +282,24 @@ int Run(const Options& options) {
                                        : seep::core::CoreThreadsPerJob(options.workers);
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = lease_owner;
+  runner_options.lease_duration =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.lease_s * 1000));
+  // Renewals (and the rescuer's look for expired leases) several times per lease.
+  runner_options.heartbeat_interval =
+      std::min(std::chrono::milliseconds(2000), runner_options.lease_duration / 4);
+  runner_options.job_time_limit =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
+  runner_options.test_stall_job = options.test_stall_job;
+  runner_options.test_fail_final_writes = options.test_fail_final_writes;
+  runner_options.test_crash_job = options.test_crash_job;
+  runner_options.max_interruptions = options.max_interruptions;
+  if (!options.test_stall_job.empty() || options.test_fail_final_writes > 0 ||
+      !options.test_crash_job.empty()) {
+    logger->warn(
+        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}, --test-crash-job '{}') "
+        "are on: not for production",
+        options.test_stall_job, options.test_fail_final_writes, options.test_crash_job);
+  }
   runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
   runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
   runner_options.checkpoints.interval =
@@ -304,6 +390,34 @@ int main(int argc, char** argv) {
                  "newest checkpoint files kept per job")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  app.add_option("--lease-s", options.lease_s,
+                 "seconds a job's lease lasts without progress; then the rescuer queues the job "
+                 "again (must exceed the longest step or scene set-up)")
+      ->check(CLI::Range(0.5, 86400.0))
+      ->capture_default_str();
+  app.add_option("--job-time-limit-s", options.job_time_limit_s,
+                 "wall seconds one run of a job may take before it is FAILED with "
+                 "DEADLINE_EXCEEDED (checkpointed first; 0 = no limit)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  app.add_option(
+         "--test-stall-job", options.test_stall_job,
+         "TEST ONLY: the first worker to run a job of this name hangs 1500 steps into its run "
+         "until it loses the lease")
+      ->group("");  // hidden from --help
+  app.add_option("--max-interruptions", options.max_interruptions,
+                 "interruptions in a row without progress (crashes, dead or hung workers; not "
+                 "shutdowns) after which a job is FAILED instead of run again")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--test-crash-job", options.test_crash_job,
+                 "TEST ONLY: a worker running a job of this name ends seepd 1500 steps into its "
+                 "run")
+      ->group("");
+  app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
+                 "TEST ONLY: the first N tries of writing a finished job's result fail")
+      ->check(CLI::NonNegativeNumber)
+      ->group("");
   app.add_option("--token-file", options.token_file,
                  "require 'authorization: Bearer <token>' on every SeepService call, the token "
                  "read from this file (mode 600); without it, SEEP_TOKEN is used if set");

@@ -94,6 +94,7 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   }
   out->set_build_id(job.build_id);
   out->set_attempt(job.attempt);
+  out->set_priority(job.priority);
   out->set_cancel_requested(job.cancel_requested);
 }
 

@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <exception>
+#include <set>
+#include <thread>
 
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
@@ -14,9 +18,19 @@
 #include "store/sha256.h"
 
 namespace seep::service {
+namespace {
+// Where --test-stall-job hangs a run and --test-crash-job ends the process: this many steps
+// into the claim.
+constexpr std::uint64_t kTestStallStep = 1500;
+}  // namespace
+
 JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
                      std::shared_ptr<spdlog::logger> logger)
-    : store_(store), hub_(hub), options_(std::move(options)), logger_(std::move(logger)) {}
+    : store_(store),
+      hub_(hub),
+      options_(std::move(options)),
+      logger_(std::move(logger)),
+      injected_final_write_failures_(options_.test_fail_final_writes) {}
 
 JobRunner::~JobRunner() { Stop(); }
 
@@ -25,16 +39,18 @@ void JobRunner::Start() {
     workers_.emplace_back([this](const std::stop_token& stop) { WorkerLoop(stop); });
   }
   heartbeat_ = std::jthread([this](const std::stop_token& stop) { HeartbeatLoop(stop); });
+  rescuer_ = std::jthread([this](const std::stop_token& stop) { RescueLoop(stop); });
 }
 
 void JobRunner::Stop() {
   for (auto& w : workers_) w.request_stop();
   wake_.notify_all();
   workers_.clear();  // joins
-  if (heartbeat_.joinable()) {
-    heartbeat_.request_stop();
+  for (std::jthread* t : {&heartbeat_, &rescuer_}) {
+    if (!t->joinable()) continue;
+    t->request_stop();
     heartbeat_wake_.notify_all();
-    heartbeat_.join();
+    t->join();
   }
 }
 
@@ -72,11 +88,81 @@ void JobRunner::HeartbeatLoop(const std::stop_token& stop) {
       heartbeat_wake_.wait_for(lock, stop, options_.heartbeat_interval, [] { return false; });
       jobs.assign(running_.begin(), running_.end());
     }
+    const auto now = std::chrono::steady_clock::now();
     for (auto& [id, running] : jobs) {
       if (stop.stop_requested()) break;
+      if (options_.job_time_limit.count() > 0 &&
+          now - running->wall_start > options_.job_time_limit && !running->time_limit_hit) {
+        running->time_limit_hit = true;
+        running->stop.request_stop();
+      }
+      // No progress since the last renewal: the worker may be hung, so let the lease run out.
+      const std::uint64_t ticks = running->ticks;
+      if (ticks == running->renewed_ticks) {
+        running->log->debug("no progress since the last lease renewal; not renewed");
+        continue;
+      }
+      running->renewed_ticks = ticks;
       Renew(id, *running);
     }
   }
+}
+
+void JobRunner::RescueLoop(const std::stop_token& stop) {
+  while (!stop.stop_requested()) {
+    {
+      std::unique_lock lock(mutex_);
+      heartbeat_wake_.wait_for(lock, stop, options_.heartbeat_interval, [] { return false; });
+    }
+    if (!stop.stop_requested()) RescueExpired();
+  }
+}
+
+void JobRunner::RescueExpired() {
+  std::vector<CrashLoopFailure> crash_loops;
+  auto expired = store_.RequeueExpired(NowMs(), options_.max_interruptions, &crash_loops);
+  if (!expired.ok()) {
+    logger_->error("rescuing jobs with expired leases failed: {}", expired.status().ToString());
+    return;
+  }
+  std::set<std::string> failed;
+  for (const CrashLoopFailure& f : crash_loops) {
+    logger_->warn("job {} failed: {}", f.id, f.message);
+    failed.insert(f.id);
+  }
+  for (const JobRecord& job : *expired) {
+    std::shared_ptr<Running> hung;
+    {
+      std::lock_guard lock(mutex_);
+      const auto it = running_.find(job.id);
+      if (it != running_.end() && it->second->epoch == job.lease_epoch) {
+        hung = it->second;
+        running_.erase(it);
+      }
+    }
+    if (hung) {
+      hung->lease_lost = true;
+      hung->stop.request_stop();
+    }
+    const std::string what = failed.contains(job.id) ? "failed (interrupted too often)"
+                             : job.cancel_requested  ? "cancelled (a cancel was pending)"
+                                                     : "queued to run again";
+    const std::string message = fmt::format(
+        "lease epoch {} of {} expired without progress ({} ms ago); {}", job.lease_epoch,
+        job.lease_owner.value_or("?"), NowMs() - job.lease_expires_at_ms.value_or(0), what);
+    logger_->warn("job {} rescued: {}", job.id, message);
+    AddEvent(job.id, "RESCUED", message);
+    hub_.Finished(job.id);
+  }
+  if (!expired->empty()) wake_.notify_all();
+}
+
+void JobRunner::StallForTest(Running& running, const std::stop_token& shutdown) {
+  running.log->warn("test hook --test-stall-job: this worker stops making progress");
+  while (!running.lease_lost && !shutdown.stop_requested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  running.log->warn("test hook --test-stall-job: the worker continues");
 }
 
 void JobRunner::Wake() {
@@ -133,6 +219,7 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   auto running = std::make_shared<Running>();
   running->epoch = job.lease_epoch;
   running->log = logger_->clone("job-" + job.id);
+  running->wall_start = running->last_store_write = std::chrono::steady_clock::now();
   {
     std::lock_guard lock(mutex_);
     running_[job.id] = running;
@@ -142,7 +229,6 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   // A cancel stored between the claim and the registration above is seen here.
   Renew(job.id, *running);
   hub_.Publish(job.id, job.progress);
-  running->wall_start = running->last_store_write = std::chrono::steady_clock::now();
   running->log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt,
                      job.lease_epoch);
   AddEvent(job.id, "CLAIMED",
@@ -151,12 +237,20 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   if (job.kind == JobKind::kCalibration) {
     RunCalibration(job, *running);
   } else {
-    RunSimulation(job, *running);
+    RunSimulation(job, *running, shutdown);
   }
-  hub_.Finished(job.id);
+  Unregister(job.id, *running);
+  if (!running->lease_lost) hub_.Finished(job.id);  // else the rescuer did, or a new claim runs
 }
 
-void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
+void JobRunner::Unregister(const std::string& id, const Running& running) {
+  std::lock_guard lock(mutex_);
+  const auto it = running_.find(id);
+  if (it != running_.end() && it->second.get() == &running) running_.erase(it);
+}
+
+void JobRunner::RunSimulation(const JobRecord& job, Running& running,
+                              const std::stop_token& shutdown) {
   const std::shared_ptr<spdlog::logger>& log = running.log;
   CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
   std::optional<core::Simulation> sim;
@@ -171,8 +265,10 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     auto created = core::Simulation::Create(*spec, log);
     if (!created.ok()) return created.status();
     sim.emplace(std::move(*created));
+    ++running.ticks;  // set-up done
     const std::uint64_t resumed_from =
         keeper.enabled() ? keeper.RestoreNewest(*sim).value_or(0) : 0;
+    ++running.ticks;
     keeper.StartClock();
     core::RunControl control;
     control.stop = running.stop.get_token();
@@ -197,7 +293,17 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
       }
       PublishProgress(job.id, running, progress);
     };
+    const bool stall = !options_.test_stall_job.empty() && job.name == options_.test_stall_job &&
+                       job.lease_epoch == 1;
+    const bool crash = !options_.test_crash_job.empty() && job.name == options_.test_crash_job;
     control.at_step_end = [&](const core::Simulation& at) {
+      if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running, shutdown);
+      if (crash && at.step() == resumed_from + kTestStallStep) {
+        log->critical("test hook --test-crash-job: ending the process");
+        std::_Exit(86);
+      }
+      if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
+      ++running.ticks;
       running.StopIfLeaseLost(keeper.MaybeWrite(at));
     };
     return sim->Run(control);
@@ -229,8 +335,9 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
               step);
     AddEvent(job.id, "INTERRUPTED", fmt::format("shutdown at step {}", step));
   };
-  ending.succeed = [&](double wall_s) {
+  ending.succeed = [&](double wall_s) -> Status {
     const core::RunReport report = sim->Report();
+    SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(report.metrics, "job result"));
     // Serialized once: the final checkpoint holds the very bytes the result's hash covers.
     const std::string state = SerializeSimulationState(sim->TakeSnapshot());
     (void)keeper.Write(*sim, state);  // the final state, for exports and later jobs
@@ -239,21 +346,25 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
-    Status stored = store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
-                                             report.series.values, HexSha256(state));
-    if (stored.ok()) {
-      stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
-                             wall_s, NowMs());
-    }
+    const std::string state_sha256 = HexSha256(state);
+    const auto write_result = [&]() -> Status {
+      SEEP_RETURN_IF_ERROR(store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
+                                                    report.series.values, state_sha256));
+      return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
+                           wall_s, NowMs());
+    };
+    SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "result", true, write_result));
     log->info("succeeded in {:.3f} s after {} steps ({} checkpoints, {:.3f} s writing them)",
               wall_s, report.steps, keeper.written(), keeper.seconds_writing());
-    return stored;
+    return Status::Ok();
   };
   Conclude(job, running, outcome, ending);
 }
 
 void JobRunner::PublishProgress(const std::string& id, Running& running,
                                 const JobProgress& progress) {
+  if (running.lease_lost) return;  // the job is queued again or another claim runs it
+  ++running.ticks;
   hub_.Publish(id, progress);
   const auto now = std::chrono::steady_clock::now();
   if (now - running.last_store_write < options_.store_progress_interval) return;
@@ -266,10 +377,7 @@ void JobRunner::PublishProgress(const std::string& id, Running& running,
 
 void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
                          const Ending& ending) {
-  {
-    std::lock_guard lock(mutex_);
-    running_.erase(job.id);  // the heartbeat renews its lease no more
-  }
+  Unregister(job.id, running);  // the heartbeat renews its lease no more
   const std::shared_ptr<spdlog::logger>& log = running.log;
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - running.wall_start).count();
@@ -286,19 +394,72 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
     stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
                            outcome.message(), {}, wall_s, NowMs());
     log->info("{}cancelled after {:.3f} s: {}", ending.kind, wall_s, outcome.message());
+  } else if (stopped && running.time_limit_hit) {
+    const std::string message = fmt::format(
+        "wall-time limit exceeded: ran {:.1f} s in this claim, the limit is {} s "
+        "(--job-time-limit-s); `seep resume` continues it from its last checkpoint",
+        wall_s, std::chrono::duration<double>(options_.job_time_limit).count());
+    stored = store_.Finish(job.id, running.epoch, JobState::kFailed, "DEADLINE_EXCEEDED", message,
+                           {}, wall_s, NowMs());
+    log->warn("{}failed: {}", ending.kind, message);
   } else if (stopped) {
-    // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again.
+    // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again,
+    // its lease released (a clean stop is not an interruption without progress).
     ending.interrupted(wall_s);
+    if (auto s = store_.ReleaseLease(job.id, running.epoch); !s.ok()) {
+      log->warn("lease not released: {}", s.ToString());
+    }
     return;
   } else if (outcome.ok()) {
     stored = ending.succeed(wall_s);
+    if (!stored.ok() && stored.code() != core::StatusCode::kAborted) {
+      // Never left RUNNING with a result that cannot be stored: FAILED, saying why.
+      const std::string message =
+          fmt::format("the result could not be recorded: {}", stored.message());
+      log->error("{}failed: {}", ending.kind, message);
+      const std::string code = core::StatusCodeName(stored.code());
+      stored = RetryFinalWrite(running, "failure", false, [&] {
+        return store_.Finish(job.id, running.epoch, JobState::kFailed, code, message, {}, wall_s,
+                             NowMs());
+      });
+    }
   } else {
     stored =
         store_.Finish(job.id, running.epoch, JobState::kFailed,
                       core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
     log->warn("{}failed: {}", ending.kind, outcome.ToString());
   }
-  if (!stored.ok()) log->error("could not record the outcome: {}", stored.ToString());
+  if (!stored.ok()) {
+    // Its lease is renewed no more: the rescuer queues it again once the lease expires.
+    log->error("could not record the outcome: {}", stored.ToString());
+  }
+}
+
+core::Status JobRunner::RetryFinalWrite(Running& running, const char* what, bool injectable,
+                                        const std::function<core::Status()>& write) {
+  const int attempts = std::max(1, options_.final_write_attempts);
+  auto wait = options_.final_write_backoff;
+  for (int attempt = 1;; ++attempt) {
+    int injected = injectable ? injected_final_write_failures_.load() : 0;
+    while (injected > 0 &&
+           !injected_final_write_failures_.compare_exchange_weak(injected, injected - 1)) {
+    }
+    core::Status s =
+        injected > 0 ? core::Unavailable("injected final-write failure (--test-fail-final-writes)")
+                     : write();
+    if (s.ok() || s.code() == core::StatusCode::kAborted ||
+        s.code() == core::StatusCode::kInvalidArgument) {
+      return s;
+    }
+    if (attempt >= attempts) {
+      return {s.code(),
+              fmt::format("{} not stored after {} tries: {}", what, attempts, s.message())};
+    }
+    running.log->warn("{} not stored (try {} of {}): {}; trying again in {} ms", what, attempt,
+                      attempts, s.ToString(), wait.count());
+    std::this_thread::sleep_for(wait);
+    wait *= 2;
+  }
 }
 
 void JobRunner::AddEvent(const std::string& id, const std::string& kind,

@@ -1,16 +1,20 @@
 // JobRunner: a fixed pool of worker threads that claim queued jobs from the store and run them.
 //
 // A job's failure is data (state FAILED with a code and message), never an exception leaving a
-// thread. Each claim is a lease (owner, epoch, expiry) that a heartbeat thread renews; every
-// write a worker makes is fenced by its epoch, so a worker whose lease was taken over gets
-// ABORTED and stops its job without writing. Each running job has its own stop source: a user's
-// cancel stops that job only (recorded CANCELLED), shutdown stops all of them at a step boundary
-// and leaves them RUNNING in the store, so the next seepd start queues them again. Running jobs
-// write periodic checkpoints (CheckpointKeeper), one more when they are stopped, and a claimed
-// job continues from its newest usable checkpoint: after a crash, a shutdown, a cancel or a
-// failure followed by ResumeJob. Calibration jobs (job_runner_calibration.cc) are short and
-// write no checkpoints: after a restart or a resume they run again from the start, and their
-// records replace the earlier ones.
+// thread. Each claim is a lease (owner, epoch, expiry) that a heartbeat thread renews, but only
+// when the job made progress (a step, a progress report, a calibration solve) since the last
+// renewal: a hung worker's lease runs out. A rescuer thread requeues the jobs whose lease
+// expired while the server serves, and tells a hung worker of this process that it lost them;
+// every write a worker makes is fenced by its epoch, so a worker whose lease was taken over gets
+// ABORTED and stops its job without writing. A job that runs longer than job_time_limit in one
+// claim is stopped at a step boundary, checkpointed and FAILED with DEADLINE_EXCEEDED. Each running
+// job has its own stop source: a user's cancel stops that job only (recorded CANCELLED), shutdown
+// stops all of them at a step boundary and leaves them RUNNING in the store, so the next seepd
+// start queues them again. Running jobs write periodic checkpoints (CheckpointKeeper), one more
+// when they are stopped, and a claimed job continues from its newest usable checkpoint: after a
+// crash, a shutdown, a cancel or a failure followed by ResumeJob. Calibration jobs
+// (job_runner_calibration.cc) are short and write no checkpoints: after a restart or a resume they
+// run again from the start, and their records replace the earlier ones.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -41,8 +45,28 @@ struct JobRunnerOptions {
   std::chrono::milliseconds store_progress_interval{1000};
   // Who holds the leases this runner takes (unique per seepd process).
   std::string lease_owner = "seepd";
+  // How long a lease lasts without a renewal; it must exceed the longest stretch of work without
+  // progress (one step, a scene's set-up).
   std::chrono::milliseconds lease_duration{30000};
+  // How often the heartbeat renews leases and the rescuer looks for expired ones.
   std::chrono::milliseconds heartbeat_interval{2000};
+  // Wall time one claim of a job may run before it is FAILED with DEADLINE_EXCEEDED; 0 = none.
+  std::chrono::milliseconds job_time_limit{0};
+  // A final write (result and terminal state) that fails is tried this many times in all, the
+  // waits between tries doubling from final_write_backoff; then the job is FAILED with the reason.
+  int final_write_attempts = 5;
+  std::chrono::milliseconds final_write_backoff{100};
+  // Interruptions in a row without progress after which a job is FAILED (JobStore::
+  // RequeueRunning); the rescuer applies it, seepd passes it to the start-up requeue too.
+  int max_interruptions = 3;
+  // Test only: a worker running a job of this name ends the process (_Exit(86), as a crash
+  // would) 1500 steps into its run.
+  std::string test_crash_job;
+  // Test only: the first this many tries of final result writes fail as a store error would.
+  int test_fail_final_writes = 0;
+  // Test only: a worker running a job of this name in its first claim stops making progress
+  // 1500 steps into its run (as a hung worker would) until it is told it lost the lease.
+  std::string test_stall_job;
   // Periodic checkpoints of running jobs, and resume from them (dir empty = off).
   CheckpointPolicy checkpoints;
 };
@@ -70,6 +94,11 @@ class JobRunner {
     std::stop_source stop;  // this job only: cancel, lease loss or shutdown
     std::atomic<bool> cancel{false};
     std::atomic<bool> lease_lost{false};
+    std::atomic<bool> time_limit_hit{false};
+    // Bumped by the worker at every sign of progress; the heartbeat renews the lease only when it
+    // moved since the last renewal (renewed_ticks: heartbeat thread only).
+    std::atomic<std::uint64_t> ticks{0};
+    std::uint64_t renewed_ticks = 0;
     std::shared_ptr<spdlog::logger> log;  // the job's own ("job-<id>")
     std::chrono::steady_clock::time_point wall_start;
     std::chrono::steady_clock::time_point last_store_write;  // of progress; worker thread only
@@ -84,28 +113,46 @@ class JobRunner {
     // First, for every outcome: false when the lease turned out lost (nothing is recorded).
     std::function<bool(bool stopped)> keep_state;
     std::function<void(double wall_s)> interrupted;  // shutdown: its log line and event
-    std::function<Status(double wall_s)> succeed;    // records the result and SUCCEEDED
+    // Records the result and SUCCEEDED (through RetryFinalWrite); an error other than ABORTED
+    // makes the job FAILED with it (a non-finite metric, a store that keeps failing).
+    std::function<Status(double wall_s)> succeed;
   };
 
   void WorkerLoop(const std::stop_token& stop);
   void HeartbeatLoop(const std::stop_token& stop);
   // Renews one lease; on a pending cancel or a lost lease, stops the job.
   void Renew(const std::string& id, Running& running);
+  // Requeues the jobs whose lease expired; a worker of this process still holding one of them
+  // (hung) is told it lost the lease and forgotten, so a new claim can register.
+  void RescueLoop(const std::stop_token& stop);
+  void RescueExpired();
+  // Test only (test_stall_job): blocks, making no progress, until the lease is lost or seepd
+  // shuts down.
+  void StallForTest(Running& running, const std::stop_token& shutdown);
   void RunJob(const JobRecord& job, const std::stop_token& shutdown);
+  // Forgets `running` if it is still the job's registered run (a rescued job may be claimed
+  // again, by another worker, before its hung worker ends).
+  void Unregister(const std::string& id, const Running& running);
   // A simulation job: its scene decoded, resumed from its newest usable checkpoint, run with
   // periodic checkpoints, and its end recorded.
-  void RunSimulation(const JobRecord& job, Running& running);
+  void RunSimulation(const JobRecord& job, Running& running, const std::stop_token& shutdown);
   // A calibration job (job_runner_calibration.cc): calibrates every target with the job's stop
   // token, then records the records and the terminal state, each fenced by the lease epoch.
   void RunCalibration(const JobRecord& job, Running& running);
   // Live progress to the hub, and to the store at most every store_progress_interval.
   void PublishProgress(const std::string& id, Running& running, const JobProgress& progress);
-  // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; for a
-  // shutdown an INTERRUPTED event only (the job stays RUNNING, so the next start queues it
-  // again); ending.succeed for a success; FAILED with the outcome otherwise.
+  // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; FAILED
+  // (DEADLINE_EXCEEDED) over the time limit; for a shutdown an INTERRUPTED event only (the job
+  // stays RUNNING, so the next start queues it again); ending.succeed for a success, and FAILED
+  // with its reason when that cannot be recorded; FAILED with the outcome otherwise.
   void Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
                 const Ending& ending);
   void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // Runs a final write until it succeeds, the lease is lost (ABORTED) or the store refuses the
+  // data (INVALID_ARGUMENT), at most final_write_attempts times with a doubling wait; the last
+  // failure says how many tries were made. `injectable`: test_fail_final_writes applies.
+  core::Status RetryFinalWrite(Running& running, const char* what, bool injectable,
+                               const std::function<core::Status()>& write);
   // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker).
   static core::Status CatchAll(const std::function<core::Status()>& body);
 
@@ -117,9 +164,11 @@ class JobRunner {
   std::condition_variable_any wake_;
   std::condition_variable_any heartbeat_wake_;  // only to end the heartbeat's wait early
   std::uint64_t wake_count_ = 0;
+  std::atomic<int> injected_final_write_failures_{0};        // from test_fail_final_writes
   std::map<std::string, std::shared_ptr<Running>> running_;  // guarded by mutex_
   std::vector<std::jthread> workers_;
   std::jthread heartbeat_;
+  std::jthread rescuer_;
 };
 
 }  // namespace seep::service

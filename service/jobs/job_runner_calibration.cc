@@ -92,7 +92,9 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
               wall_s);
     AddEvent(job.id, "INTERRUPTED", "shutdown during a calibration (no checkpoints: reruns)");
   };
-  ending.succeed = [&](double wall_s) {
+  ending.succeed = [&](double wall_s) -> Status {
+    const std::vector<std::pair<std::string, double>> metrics = CalibrationJobMetrics(records);
+    SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(metrics, "calibration result"));
     const std::string setup_sha = CalibrationSetupSha256(calibration);
     const std::int64_t now_ms = NowMs();
     std::vector<std::string> tags(calibration.tags().begin(), calibration.tags().end());
@@ -112,14 +114,15 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
-    Status stored = store_.RecordCalibrations(job.id, running.epoch, rows, tags);
-    if (stored.ok()) {
-      stored = store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "",
-                             CalibrationJobMetrics(records), wall_s, NowMs());
-    }
+    const auto write_result = [&]() -> Status {
+      SEEP_RETURN_IF_ERROR(store_.RecordCalibrations(job.id, running.epoch, rows, tags));
+      return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", metrics, wall_s,
+                           NowMs());
+    };
+    SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "calibration result", true, write_result));
     log->info("calibration succeeded in {:.3f} s: {} target(s), {} permeameter solves", wall_s,
               records.size(), solves);
-    return stored;
+    return Status::Ok();
   };
   Conclude(job, running, outcome, ending);
 }

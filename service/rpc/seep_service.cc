@@ -14,6 +14,9 @@ namespace seep::service {
 namespace {
 
 constexpr std::size_t kMaxRequestIdLength = 200;
+// The range of SubmitJobRequest.priority.
+constexpr std::int32_t kMinPriority = -1000;
+constexpr std::int32_t kMaxPriority = 1000;
 constexpr std::size_t kMaxNameFilterLength = 200;
 
 // Job ids are random, not sequential, so that two servers' ids never collide when records are
@@ -58,8 +61,13 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
       return core::InvalidArgument(
           fmt::format("request_id: at most {} characters", kMaxRequestIdLength));
     }
+    if (req->priority() < kMinPriority || req->priority() > kMaxPriority) {
+      return core::InvalidArgument(fmt::format("priority: must be between {} and {} (got {})",
+                                               kMinPriority, kMaxPriority, req->priority()));
+    }
     JobRecord job;
     job.id = NewJobId();
+    job.priority = req->priority();
     if (req->has_calibration()) {
       // seep_service_calibrations.cc: checks, from_job_id, validation, serialization.
       SEEP_ASSIGN_OR_RETURN(PreparedCalibration prepared,

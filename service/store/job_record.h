@@ -50,6 +50,8 @@ struct JobRecord {
   std::optional<std::string> request_id;
   JobState state = JobState::kQueued;
   JobKind kind = JobKind::kSimulation;
+  // Queued jobs are claimed highest priority first, oldest first within one priority.
+  std::int32_t priority = 0;
   std::string scene;  // serialized seep.v1.Scene, or seep.v1.Calibration for a calibration job
   std::string build_id;
   std::int64_t created_at_ms = 0;

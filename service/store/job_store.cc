@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "sqlite_handle.h"
 
 namespace seep::service {
@@ -139,15 +142,30 @@ CREATE TABLE calibration_tags (
 ) STRICT;
 CREATE INDEX calibration_tags_by_tag ON calibration_tags(tag, job_id);
 )sql",
+    // v5: interruptions without progress (crash loops): how many in a row, and the newest
+    // checkpoint step at the last one (-1: none yet).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN interruptions INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN interrupted_at_step INTEGER NOT NULL DEFAULT -1;
+)sql",
+    // v6: job priorities (the queue is claimed by priority, then by age).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX jobs_queue ON jobs(state, priority DESC);  -- rowid is in every index
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
+
+// What a job's run produced; cleared when it is resumed or ends other than SUCCEEDED.
+constexpr const char* kResultTables[] = {"results", "result_series", "calibrations",
+                                         "calibration_tags"};
 static_assert(kMigrationCount == JobStore::kSchemaVersion);
 
 constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
-    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind";
-constexpr int kSceneColumn = 21;  // after kJobColumns
+    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority";
+constexpr int kSceneColumn = 22;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -171,10 +189,22 @@ JobRecord ReadJobRow(const Stmt& s) {
   job.lease_epoch = s.ColumnInt(18);
   if (!s.ColumnIsNull(19)) job.lease_expires_at_ms = s.ColumnInt(19);
   job.kind = ParseJobKind(s.ColumnText(20)).value_or(JobKind::kSimulation);
+  job.priority = static_cast<std::int32_t>(s.ColumnInt(21));
   return job;
 }
 
 }  // namespace
+
+Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& metrics,
+                          std::string_view what) {
+  for (const auto& [name, value] : metrics) {
+    if (!std::isfinite(value)) {
+      return core::InvalidArgument(
+          fmt::format("{}: metric '{}' is not a finite number (got {})", what, name, value));
+    }
+  }
+  return Status::Ok();
+}
 
 Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
   SEEP_ASSIGN_OR_RETURN(Db db, Db::Open(path));
@@ -235,15 +265,17 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
     }
   }
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
-                           "created_at_ms, kind) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?)"));
+      Stmt s,
+      db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
+                   "created_at_ms, kind, priority) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?, ?)"));
   s.Bind(1, std::string_view(job.id))
       .Bind(2, job.request_id)
       .Bind(3, std::string_view(job.name))
       .BindBlob(4, job.scene)
       .Bind(5, std::string_view(job.build_id))
       .Bind(6, job.created_at_ms)
-      .Bind(7, std::string_view(JobKindName(job.kind)));
+      .Bind(7, std::string_view(JobKindName(job.kind)))
+      .Bind(8, static_cast<std::int64_t>(job.priority));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_RETURN_IF_ERROR(tx.Commit());
   JobRecord stored = job;
@@ -323,10 +355,12 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& ow
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
-                           "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
-                           "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY rowid LIMIT 1) "
-                           "RETURNING id"));
+      Stmt s,
+      db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
+                   "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
+                   "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY priority DESC, rowid "
+                   "LIMIT 1) "
+                   "RETURNING id"));
   s.Bind(1, now_ms).Bind(2, std::string_view(owner)).Bind(3, now_ms + lease_ms);
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return std::optional<JobRecord>();
@@ -358,6 +392,16 @@ Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
   return cancel_requested;
 }
 
+Status JobStore::ReleaseLease(const std::string& id, std::int64_t epoch) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = NULL WHERE id "
+                                             "= ? AND lease_epoch = ? AND state = 'RUNNING'"));
+  s.Bind(1, std::string_view(id)).Bind(2, epoch);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  if (db_->Changes() != 1) return LeaseLost(id, epoch);
+  return Status::Ok();
+}
+
 Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
                                 const JobProgress& progress) {
   std::lock_guard lock(mutex_);
@@ -383,6 +427,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
     return core::Internal(
         fmt::format("store: Finish needs a terminal state, got {}", JobStateName(state)));
   }
+  SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(metrics, "store"));
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
@@ -398,6 +443,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
       .Bind(7, epoch);
   SEEP_RETURN_IF_ERROR(s.Run());
   if (db_->Changes() != 1) return LeaseLost(id, epoch);
+  if (state != JobState::kSucceeded) SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
   SEEP_ASSIGN_OR_RETURN(Stmt insert,
                         db_->Prepare("INSERT INTO results (job_id, name, value) VALUES (?, ?, ?)"));
   for (const auto& [name, value] : metrics) {
@@ -444,47 +490,130 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
         "job {} is {}; only FAILED or CANCELLED jobs can be resumed", id, JobStateName(job.state)));
   }
   SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
-                           "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
-                           "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
-                           "error_message = '', wall_time_s = 0, lease_owner = NULL, "
-                           "lease_expires_at_ms = NULL WHERE id = ?"));
+      Stmt s,
+      db_->Prepare(
+          "UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
+          "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
+          "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
+          "error_message = '', wall_time_s = 0, lease_owner = NULL, "
+          "lease_expires_at_ms = NULL, interruptions = 0, interrupted_at_step = -1 WHERE id = ?"));
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
-  for (const char* table : {"results", "result_series", "calibrations", "calibration_tags"}) {
-    SEEP_ASSIGN_OR_RETURN(Stmt clear,
-                          db_->Prepare(fmt::format("DELETE FROM {} WHERE job_id = ?", table)));
-    clear.Bind(1, std::string_view(id));
-    SEEP_RETURN_IF_ERROR(clear.Run());
-  }
+  SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
   SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return now;
 }
 
-Result<int> JobStore::RequeueRunning(const std::string& current_owner) {
+Status JobStore::ClearResultsLocked(const std::string& id) {
+  for (const char* table : kResultTables) {
+    SEEP_ASSIGN_OR_RETURN(Stmt clear,
+                          db_->Prepare(fmt::format("DELETE FROM {} WHERE job_id = ?", table)));
+    clear.Bind(1, std::string_view(id));
+    SEEP_RETURN_IF_ERROR(clear.Run());
+  }
+  return Status::Ok();
+}
+
+Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
+                                    std::string_view cancel_message, int max_interruptions,
+                                    std::vector<CrashLoopFailure>* crash_loops) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt cancel,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = ?, "
+          "finished_at_ms = strftime('%s', 'now') * 1000, lease_expires_at_ms = NULL WHERE "
+          "state = 'RUNNING' AND cancel_requested = 1 AND {}",
+          where)));
+  cancel.Bind(1, cancel_message);
+  bind(cancel, 2);
+  SEEP_RETURN_IF_ERROR(cancel.Run());
+  // An unreleased lease is an interruption; without a newer checkpoint, one without progress.
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt count,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET interruptions = CASE WHEN mark = interrupted_at_step THEN "
+          "interruptions + 1 ELSE 1 END, interrupted_at_step = mark FROM (SELECT j.id AS mark_id, "
+          "COALESCE((SELECT MAX(c.step) FROM checkpoints c WHERE c.job_id = j.id), 0) AS mark "
+          "FROM jobs j) WHERE mark_id = jobs.id AND state = 'RUNNING' AND lease_expires_at_ms IS "
+          "NOT NULL AND {}",
+          where)));
+  bind(count, 1);
+  SEEP_RETURN_IF_ERROR(count.Run());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt fail,
+      db_->Prepare(fmt::format(
+          "UPDATE jobs SET state = 'FAILED', error_code = 'ABORTED', error_message = "
+          "printf('interrupted %d times in a row without progress (a crash, a hung or dead "
+          "worker; no checkpoint beyond step %d): it may be what brings seepd down, so it is not "
+          "run again (see its events; `seep resume` tries once more)', interruptions, "
+          "interrupted_at_step), finished_at_ms = strftime('%s', 'now') * 1000, "
+          "lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND interruptions >= ? AND {} "
+          "RETURNING id, error_message",
+          where)));
+  fail.Bind(1, static_cast<std::int64_t>(std::max(1, max_interruptions)));
+  bind(fail, 2);
+  std::vector<CrashLoopFailure> failed;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, fail.Step());
+    if (!row) break;
+    failed.push_back({fail.ColumnText(0), fail.ColumnText(1)});
+  }
+  for (const CrashLoopFailure& f : failed) {
+    SEEP_ASSIGN_OR_RETURN(
+        Stmt event, db_->Prepare("INSERT INTO events (job_id, at_ms, kind, message) VALUES (?, "
+                                 "strftime('%s', 'now') * 1000, 'INTERRUPTED_TOO_OFTEN', ?)"));
+    event.Bind(1, std::string_view(f.id)).Bind(2, std::string_view(f.message));
+    SEEP_RETURN_IF_ERROR(event.Run());
+  }
+  if (crash_loops != nullptr) crash_loops->insert(crash_loops->end(), failed.begin(), failed.end());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare(fmt::format(
+                  "UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
+                  "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {}",
+                  where)));
+  bind(s, 1);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  return static_cast<int>(db_->Changes());
+}
+
+Result<int> JobStore::RequeueRunning(const std::string& current_owner, int max_interruptions,
+                                     std::vector<CrashLoopFailure>* crash_loops) {
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   // A cancel that was pending when the previous process stopped is honoured now.
   SEEP_ASSIGN_OR_RETURN(
-      Stmt cancel,
-      db_->Prepare(
-          "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = "
-          "'cancelled while seepd was stopped', finished_at_ms = strftime('%s', 'now') * 1000, "
-          "lease_expires_at_ms = NULL WHERE state = "
-          "'RUNNING' AND cancel_requested = 1 AND lease_owner IS NOT ?"));
-  cancel.Bind(1, std::string_view(current_owner));
-  SEEP_RETURN_IF_ERROR(cancel.Run());
-  SEEP_ASSIGN_OR_RETURN(
-      Stmt s,
-      db_->Prepare("UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
-                   "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND "
-                   "lease_owner IS NOT ?"));
-  s.Bind(1, std::string_view(current_owner));
-  SEEP_RETURN_IF_ERROR(s.Run());
-  const int n = static_cast<int>(db_->Changes());
+      const int n, RequeueLocked(
+                       "lease_owner IS NOT ?",
+                       [&](Stmt& s, int index) { s.Bind(index, std::string_view(current_owner)); },
+                       "cancelled while seepd was stopped", max_interruptions, crash_loops));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return n;
+}
+
+Result<std::vector<JobRecord>> JobStore::RequeueExpired(
+    std::int64_t now_ms, int max_interruptions, std::vector<CrashLoopFailure>* crash_loops) {
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  constexpr const char* kExpired = "lease_expires_at_ms < ?";
+  const auto bind_now = [now_ms](Stmt& s, int index) { s.Bind(index, now_ms); };
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt find, db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE state = 'RUNNING' AND {}",
+                                          kJobColumns, kExpired)));
+  bind_now(find, 1);
+  std::vector<JobRecord> expired;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, find.Step());
+    if (!row) break;
+    expired.push_back(ReadJobRow(find));
+  }
+  if (expired.empty()) return expired;
+  SEEP_RETURN_IF_ERROR(RequeueLocked(kExpired, bind_now,
+                                     "cancelled after its worker's lease expired",
+                                     max_interruptions, crash_loops)
+                           .status());
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return expired;
 }
 
 }  // namespace seep::service

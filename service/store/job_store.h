@@ -5,10 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "job_record.h"
@@ -18,6 +20,7 @@
 namespace seep::service {
 
 class Db;
+class Stmt;
 using core::Result;
 using core::Status;
 
@@ -33,14 +36,27 @@ struct JobFilter {
   std::vector<JobKind> kinds;
 };
 
+// OK when every metric is a finite number; else INVALID_ARGUMENT naming the first one that is not
+// (SQLite would store a NaN as NULL). `what` starts the message ("store", "job result", ...).
+Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& metrics,
+                          std::string_view what);
+
 struct JobPage {
   std::vector<JobRecord> jobs;  // newest first, scenes left empty
   std::optional<std::int64_t> next_cursor;
 };
 
+// A job that crash-looped: FAILED by a requeue, with the reason recorded on it.
+struct CrashLoopFailure {
+  std::string id;
+  std::string message;
+};
+
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 4;
+  static constexpr int kSchemaVersion = 6;
+  // How many interruptions in a row without progress fail a job (see RequeueRunning).
+  static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
 
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
@@ -52,8 +68,8 @@ class JobStore {
   Result<JobPage> List(std::uint32_t limit, std::optional<std::int64_t> cursor,
                        const JobFilter& filter = {});
 
-  // Moves the oldest QUEUED job to RUNNING under a new lease held by owner until
-  // now_ms + lease_ms (lease_epoch + 1) and returns it.
+  // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
+  // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it.
   Result<std::optional<JobRecord>> ClaimNextQueued(const std::string& owner, std::int64_t now_ms,
                                                    std::int64_t lease_ms);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
@@ -61,7 +77,9 @@ class JobStore {
   // Heartbeat extends the lease and returns whether a cancel was requested.
   Result<bool> Heartbeat(const std::string& id, std::int64_t epoch, std::int64_t expires_at_ms);
   Status UpdateProgress(const std::string& id, std::int64_t epoch, const JobProgress& progress);
-  // Moves the RUNNING job to a terminal state with its metrics, in one transaction.
+  // Moves the RUNNING job to a terminal state with its metrics, in one transaction; a metric
+  // that is not finite is INVALID_ARGUMENT (nothing written). A job that ends other than
+  // SUCCEEDED keeps no result: a series or calibration records stored before are removed.
   Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                 const std::string& error_code, const std::string& error_message,
                 const std::vector<std::pair<std::string, double>>& metrics, double wall_time_s,
@@ -111,7 +129,27 @@ class JobStore {
 
   // At start-up: jobs left RUNNING under a lease not held by current_owner go back to QUEUED
   // (or to CANCELLED when a cancel was pending). Returns how many were re-queued.
-  Result<int> RequeueRunning(const std::string& current_owner);
+  //
+  // Both requeues count interruptions: a job whose lease was not released (a crash, a hung or
+  // dead worker; not a shutdown, see ReleaseLease) and whose newest checkpoint is at the same step
+  // as at its previous interruption was interrupted once more without progress; at
+  // max_interruptions in a row it is FAILED (ABORTED, the count and step in its message, an
+  // INTERRUPTED_TOO_OFTEN event) instead of queued, so that a job that crashes seepd does not run
+  // first on every restart. Those are appended to *crash_loops when given.
+  Result<int> RequeueRunning(const std::string& current_owner,
+                             int max_interruptions = kDefaultMaxInterruptions,
+                             std::vector<CrashLoopFailure>* crash_loops = nullptr);
+  // While serving: jobs RUNNING under a lease that expired before now_ms (their worker died or
+  // stopped making progress) go back to QUEUED, or to CANCELLED when a cancel was pending; the
+  // old lease's writes are ABORTED from then on. Returns the rescued jobs as they were before
+  // (a crash-looping one is FAILED instead, as in RequeueRunning).
+  Result<std::vector<JobRecord>> RequeueExpired(
+      std::int64_t now_ms, int max_interruptions = kDefaultMaxInterruptions,
+      std::vector<CrashLoopFailure>* crash_loops = nullptr);
+  // A worker stopped by shutdown leaves its job RUNNING for the next start but releases the
+  // lease (no expiry), so that the interruption does not count as one without progress.
+  // Fenced by the lease epoch.
+  Status ReleaseLease(const std::string& id, std::int64_t epoch);
 
  private:
   explicit JobStore(std::unique_ptr<Db> db);
@@ -120,6 +158,14 @@ class JobStore {
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
   Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
+  // Removes what a run of the job produced (metrics, series, calibration records and tags).
+  Status ClearResultsLocked(const std::string& id);
+  // RUNNING jobs matching `where` (its one parameter bound by `bind(statement, index)`) go back
+  // to QUEUED, or to CANCELLED with `cancel_message` when a cancel was pending; returns how
+  // many were queued.
+  Result<int> RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
+                            std::string_view cancel_message, int max_interruptions,
+                            std::vector<CrashLoopFailure>* crash_loops);
 
   std::mutex mutex_;
   std::unique_ptr<Db> db_;

@@ -17,8 +17,7 @@
 #include <regex>
 #include <thread>
 
-#include "process.h"
-#include "seep/v1/job_service.grpc.pb.h"
+#include "grpc_seepd_fixture.h"
 
 namespace seep::testing {
 namespace {
@@ -92,77 +91,9 @@ std::string ReadFile(const std::filesystem::path& path) {
   return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
 }
 
-class CrashRecovery : public ::testing::Test {
+class CrashRecovery : public GrpcSeepdTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-e2e-crash-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    stub_.reset();
-    if (server_.running()) server_.Stop(SIGTERM);
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  // (Re)starts seepd on data folder `data` with the given extra flags; its output is appended
-  // to <data>.out.
-  void Start(const std::string& data, std::vector<std::string> extra) {
-    stub_.reset();
-    const std::string port_file = (dir_ / (data + ".port")).string();
-    std::filesystem::remove(port_file);
-    std::vector<std::string> argv = {
-        SEEPD_PATH,    "--listen", "127.0.0.1:0", "--data-dir", (dir_ / data).string(),
-        "--port-file", port_file};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    server_ = ChildProcess(argv, (dir_ / (data + ".out")).string());
-    const int port = WaitForPortFile(port_file, std::chrono::seconds(30));
-    ASSERT_GT(port, 0) << "seepd did not start; see " << (dir_ / (data + ".out"));
-    stub_ = v1::SeepService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(port),
-                                                         grpc::InsecureChannelCredentials()));
-  }
-
-  std::string Submit(const v1::Scene& scene) {
-    grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
-    v1::SubmitJobRequest request;
-    *request.mutable_scene() = scene;
-    v1::SubmitJobResponse response;
-    const grpc::Status status = stub_->SubmitJob(&ctx, request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return response.job().id();
-  }
-
-  v1::Job Get(const std::string& id) {
-    grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
-    v1::GetJobRequest request;
-    request.set_id(id);
-    v1::GetJobResponse response;
-    const grpc::Status status = stub_->GetJob(&ctx, request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return response.job();
-  }
-
-  // Polls until every job is terminal; returns them by id.
-  std::map<std::string, v1::Job> WaitAllTerminal(const std::vector<std::string>& ids,
-                                                 std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    std::map<std::string, v1::Job> jobs;
-    for (;;) {
-      bool all = true;
-      for (const auto& id : ids) {
-        jobs[id] = Get(id);
-        const auto state = jobs[id].state();
-        all = all && (state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
-                      state == v1::JOB_STATE_CANCELLED);
-      }
-      if (all || std::chrono::steady_clock::now() > deadline) return jobs;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  }
+  CrashRecovery() : GrpcSeepdTest("e2e-crash") {}
 
   // Waits until a job has at least `n` checkpoint files and its newest file name sorts after
   // `newer_than`; returns them sorted by step (the names hold the zero-padded step).
@@ -202,10 +133,6 @@ class CrashRecovery : public ::testing::Test {
     EXPECT_EQ(server_.Stop(SIGTERM), 0);
     return hashes;
   }
-
-  std::filesystem::path dir_;
-  ChildProcess server_;
-  std::unique_ptr<v1::SeepService::Stub> stub_;
 };
 
 // The hydraulic-fracturing example cut short after its breakdown: moving particles, bonds

@@ -350,52 +350,6 @@ TEST_F(DurableJobs, SameRequestIdTwiceGivesOneJob) {
   EXPECT_EQ(ListIds({}, ""), std::vector<std::string>{first.job().id()});
 }
 
-TEST_F(DurableJobs, AStaleWorkerStopsWhenAnotherProcessTakesOverTheLease) {
-  const std::string id = SubmitOk(kLongScene);
-  ASSERT_EQ(WatchUntil(id, v1::JOB_STATE_RUNNING).job().state(), v1::JOB_STATE_RUNNING);
-  ASSERT_TRUE(WaitForOutput("seepd", "started 'long-explicit' (attempt 1, lease epoch 1)"));
-
-  // A second seepd on the same database treats the lease as a previous process's: it re-queues
-  // the job, and it is claimed again under epoch 2 while the first seepd still runs it.
-  std::string second_address;
-  ChildProcess second = StartSeepd("seepd2", &second_address);
-  ASSERT_FALSE(second_address.empty()) << "the second seepd did not start";
-  EXPECT_TRUE(WaitForOutput("seepd2", "recovered 1 interrupted job(s)"));
-  // Usually the second seepd claims it; if the first one's heartbeat fell between the re-queue
-  // and that claim, the first seepd's freed worker may claim it instead. Either way epoch 2.
-  const std::string second_claim = "started 'long-explicit' (attempt 1, lease epoch 2)";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!WaitForOutput("seepd2", second_claim, std::chrono::seconds(0)) &&
-         !WaitForOutput("seepd", second_claim, std::chrono::seconds(0)) &&
-         std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  ASSERT_TRUE(WaitForOutput("seepd2", second_claim, std::chrono::seconds(0)) ||
-              WaitForOutput("seepd", second_claim, std::chrono::seconds(0)));
-
-  // The epoch-1 worker's next heartbeat is fenced out (ABORTED): it stops and writes nothing.
-  EXPECT_TRUE(WaitForOutput("seepd", "lease lost"));
-  EXPECT_TRUE(WaitForOutput("seepd", "stopped after losing its lease; nothing recorded"));
-  EXPECT_EQ(Get(id).state(), v1::JOB_STATE_RUNNING);
-
-  // A cancel through either server reaches the holder of the current lease, which records it.
-  auto second_stub = v1::SeepService::NewStub(
-      grpc::CreateChannel(second_address, grpc::InsecureChannelCredentials()));
-  {
-    grpc::ClientContext ctx;
-    SetDeadline(&ctx, std::chrono::seconds(10));
-    v1::CancelJobRequest request;
-    request.set_id(id);
-    v1::CancelJobResponse response;
-    ASSERT_TRUE(second_stub->CancelJob(&ctx, request, &response).ok());
-  }
-  const v1::Job job = WatchUntil(id, v1::JOB_STATE_CANCELLED).job();
-  EXPECT_EQ(job.state(), v1::JOB_STATE_CANCELLED);
-  EXPECT_EQ(job.error().code(), "CANCELLED");
-  second_stub.reset();
-  EXPECT_EQ(second.Stop(SIGTERM), 0);
-}
-
 TEST_F(DurableJobs, AJobInterruptedByShutdownRunsAgainAfterRestart) {
   const std::string id = SubmitOk(kLongScene);
   ASSERT_EQ(WatchUntil(id, v1::JOB_STATE_RUNNING).job().state(), v1::JOB_STATE_RUNNING);

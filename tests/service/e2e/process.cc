@@ -77,6 +77,14 @@ ChildProcess::~ChildProcess() {
   if (running()) Stop(SIGKILL);
 }
 
+int ChildProcess::PollExit() {
+  if (!running()) return -1;
+  int status = 0;
+  if (waitpid(pid_, &status, WNOHANG) != pid_) return -1;
+  pid_ = -1;
+  return DecodeWaitStatus(status);
+}
+
 int ChildProcess::Stop(int signal, std::chrono::seconds timeout) {
   if (!running()) return -1;
   kill(pid_, signal);

@@ -31,6 +31,10 @@ class ChildProcess {
   ~ChildProcess();
 
   bool running() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
+  // If the process has ended: its exit status (or 128 + signal), and it is no longer running();
+  // else -1, without waiting.
+  int PollExit();
   // Sends the signal and waits for the exit; returns the exit status (or 128 + signal).
   int Stop(int signal, std::chrono::seconds timeout = std::chrono::seconds(20));
 

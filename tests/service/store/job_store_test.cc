@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace seep::service {
@@ -267,6 +268,141 @@ TEST_F(JobStoreTest, RequeueLeavesTheCurrentProcessesLeasesAlone) {
   EXPECT_EQ(store_->Get("a")->state, JobState::kRunning);
 }
 
+TEST_F(JobStoreTest, ExpiredLeasesAreRescuedWhileServingAndTheOldEpochCannotWrite) {
+  ASSERT_TRUE(store_->Insert(NewJob("hung")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("alive")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("cancelled")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // hung: until 1100
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // alive: renewed below
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());  // cancelled: until 1100
+  ASSERT_TRUE(store_->Cancel("cancelled", 1050).ok());
+  ASSERT_TRUE(store_->Heartbeat("alive", 1, 5000).ok());
+
+  auto none = store_->RequeueExpired(1099);
+  ASSERT_TRUE(none.ok()) << none.status().ToString();
+  EXPECT_TRUE(none->empty());
+
+  auto rescued = store_->RequeueExpired(1101);
+  ASSERT_TRUE(rescued.ok()) << rescued.status().ToString();
+  ASSERT_EQ(rescued->size(), 2u);
+  EXPECT_EQ((*rescued)[0].id, "hung");
+  EXPECT_EQ((*rescued)[0].lease_epoch, 1);
+  EXPECT_EQ((*rescued)[0].lease_owner, "me");
+  EXPECT_EQ((*rescued)[1].id, "cancelled");
+  EXPECT_TRUE((*rescued)[1].cancel_requested);
+
+  const JobRecord hung = *store_->Get("hung");
+  EXPECT_EQ(hung.state, JobState::kQueued);
+  EXPECT_FALSE(hung.lease_owner.has_value());
+  EXPECT_EQ(store_->Get("alive")->state, JobState::kRunning);
+  const JobRecord cancelled = *store_->Get("cancelled");
+  EXPECT_EQ(cancelled.state, JobState::kCancelled);
+  EXPECT_EQ(cancelled.error_message, "cancelled after its worker's lease expired");
+
+  // The hung worker's lease is gone: its writes are refused, the next claim gets epoch 2.
+  EXPECT_EQ(store_->Heartbeat("hung", 1, 9000).status().code(), core::StatusCode::kAborted);
+  EXPECT_EQ(store_->UpdateProgress("hung", 1, JobProgress::At(5, 0.1, 0.5, 0.0)).code(),
+            core::StatusCode::kAborted);
+  auto again = store_->ClaimNextQueued("me", 2000, 100);
+  ASSERT_TRUE(again.ok() && again->has_value());
+  EXPECT_EQ((*again)->id, "hung");
+  EXPECT_EQ((*again)->lease_epoch, 2);
+  EXPECT_TRUE(store_->RequeueExpired(2050)->empty());
+}
+
+TEST_F(JobStoreTest, ANonFiniteMetricIsRefusedNamingItAndAFailedJobKeepsNoResult) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("me", 1000, 100).ok());
+  const Status nan =
+      store_->Finish("a", 1, JobState::kSucceeded, "", "",
+                     {{"inflow_m2_per_s", 1.0}, {"permeability_m2", std::nan("")}}, 0.5, 2000);
+  EXPECT_EQ(nan.code(), core::StatusCode::kInvalidArgument);
+  EXPECT_EQ(nan.message(), "store: metric 'permeability_m2' is not a finite number (got nan)");
+  JobRecord job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kRunning);  // nothing written
+  EXPECT_TRUE(job.metrics.empty());
+  EXPECT_EQ(CheckFiniteMetrics({{"p_max", -INFINITY}}, "job result").message(),
+            "job result: metric 'p_max' is not a finite number (got -inf)");
+
+  // A series stored before a final write that then failed does not outlive a FAILED job.
+  ASSERT_TRUE(store_->StoreResultSeries("a", 1, {"time_s"}, {0.0, 1.0}, std::string(64, 'f')).ok());
+  ASSERT_TRUE(
+      store_->Finish("a", 1, JobState::kFailed, "UNAVAILABLE", "disk full", {}, 0.5, 2000).ok());
+  job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kFailed);
+  EXPECT_TRUE(job.state_sha256.empty());
+  EXPECT_TRUE(job.series_values.empty());
+}
+
+TEST_F(JobStoreTest, ThreeInterruptionsInARowWithoutProgressFailTheJob) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const auto interrupt = [&](const std::string& owner) {
+    auto claimed = store_->ClaimNextQueued(owner, 1000, 100);
+    EXPECT_TRUE(claimed.ok() && claimed->has_value());
+    store_.reset();  // the process "dies" with the job RUNNING
+    auto reopened = JobStore::Open(path_);
+    EXPECT_TRUE(reopened.ok());
+    store_ = std::move(*reopened);
+    std::vector<CrashLoopFailure> failed;
+    EXPECT_TRUE(store_->RequeueRunning(owner + "-next", 3, &failed).ok());
+    return failed;
+  };
+  EXPECT_TRUE(interrupt("p1").empty());
+  EXPECT_TRUE(interrupt("p2").empty());
+  // Progress (a newer checkpoint) starts the count again.
+  ASSERT_TRUE(store_->ClaimNextQueued("p3", 1000, 100).ok());
+  CheckpointRecord checkpoint;
+  checkpoint.step = 40;
+  checkpoint.path = "/nowhere/ckpt-40.bin";
+  ASSERT_TRUE(store_->RecordCheckpoint("a", 3, checkpoint, 3).ok());
+  EXPECT_EQ(*store_->RequeueRunning("p3-next"), 1);
+  EXPECT_TRUE(interrupt("p4").empty());
+  // A shutdown releases the lease: not an interruption without progress.
+  ASSERT_TRUE(store_->ClaimNextQueued("p5", 1000, 100).ok());
+  ASSERT_TRUE(store_->ReleaseLease("a", 5).ok());
+  EXPECT_EQ(*store_->RequeueRunning("p5-next"), 1);
+  EXPECT_EQ(store_->ReleaseLease("a", 5).code(), core::StatusCode::kAborted);
+  const std::vector<CrashLoopFailure> failed = interrupt("p6");  // third at step 40
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].id, "a");
+  const JobRecord job = *store_->Get("a");
+  EXPECT_EQ(job.state, JobState::kFailed);
+  EXPECT_EQ(job.error_code, "ABORTED");
+  EXPECT_EQ(job.error_message, failed[0].message);
+  EXPECT_EQ(job.error_message.rfind("interrupted 3 times in a row without progress (a crash, a "
+                                    "hung or dead worker; no checkpoint beyond step 40)",
+                                    0),
+            0u)
+      << job.error_message;
+  const auto events = *store_->ListEvents("a");
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().kind, "INTERRUPTED_TOO_OFTEN");
+  // Resume gives it a fresh count.
+  ASSERT_TRUE(store_->Resume("a").ok());
+  EXPECT_TRUE(interrupt("p7").empty());
+  EXPECT_EQ(store_->Get("a")->state, JobState::kQueued);
+}
+
+TEST_F(JobStoreTest, ClaimTakesTheHighestPriorityFirstAndTheOldestWithinOne) {
+  const std::vector<std::pair<std::string, std::int32_t>> jobs = {
+      {"low", -5}, {"first-default", 0}, {"high", 7}, {"second-default", 0}, {"higher", 9}};
+  for (const auto& [id, priority] : jobs) {
+    JobRecord job = NewJob(id);
+    job.priority = priority;
+    ASSERT_TRUE(store_->Insert(job).ok());
+  }
+  EXPECT_EQ(store_->Get("high")->priority, 7);
+  std::vector<std::string> order;
+  for (;;) {
+    auto claimed = store_->ClaimNextQueued("w", 1000, 100);
+    ASSERT_TRUE(claimed.ok());
+    if (!claimed->has_value()) break;
+    order.push_back((*claimed)->id);
+  }
+  EXPECT_EQ(order,
+            (std::vector<std::string>{"higher", "high", "first-default", "second-default", "low"}));
+}
+
 TEST_F(JobStoreTest, ResumeQueuesAFailedOrCancelledJobAsTheNextAttempt) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("b")).ok());
@@ -396,7 +532,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 4);
+  EXPECT_EQ(JobStore::kSchemaVersion, 6);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }
