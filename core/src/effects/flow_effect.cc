@@ -26,7 +26,6 @@ Status CheckFinite(const FlowStepReport& r, const StepInfo& info) {
 
 Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   const SceneSpec& scene = *s.scene;
-  scene_ = s.scene;
   volume_change_ = effects.volume_change;
   if (s.moves()) {
     mode_ = FlowMode::kSubCycled;
@@ -78,6 +77,9 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
   double error = 0.0;
   std::int64_t sub_steps = 1;
+  // dV over the interval (moving particles with volume_change), else rigid.
+  const std::span<const double> dv =
+      volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
   if (mode_ == FlowMode::kSteady) {
     SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(s.net.flow));
     error = report.mass_balance_error;
@@ -88,8 +90,6 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
       SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
       error = report.mass_balance_error;
     } else {
-      const std::span<const double> dv =
-          volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
       SEEP_ASSIGN_OR_RETURN(const FlowAdvanceReport report,
                             explicit_solver->Advance(s.net.flow, info.flow_dt, dv));
       SEEP_RETURN_IF_ERROR(CheckFinite(report.last, info));
@@ -99,8 +99,6 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
       limiting_domain_ = report.limiting_domain;
     }
   } else {
-    const std::span<const double> dv =
-        volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
     SEEP_ASSIGN_OR_RETURN(const FlowStepReport report,
                           std::get<ImplicitSolver>(solver_).Step(s.net.flow, info.flow_dt, dv));
     SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
@@ -139,15 +137,11 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
       (*m)["mass_balance_error_max"] = s.books.worst_error;
       break;
   }
-  if (volume_change_ != nullptr) {
-    effects_internal::AddNetworkMetrics(*s.scene, s.net, volume_change_->ReportedPoreVolumes(s), m);
-  } else {
-    effects_internal::AddNetworkMetrics(*s.scene, s.net, s.net.flow.pore_volume(), m);
-  }
+  effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_), m);
 }
 
-void FlowEffect::AddSeriesColumns(std::vector<std::string>* columns) const {
-  effects_internal::AddNetworkSeriesColumns(*scene_, columns);
+void FlowEffect::AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const {
+  effects_internal::AddNetworkSeriesColumns(*s.scene, columns);
 }
 
 void FlowEffect::AddSample(const LiveState& s, std::vector<double>* row) const {

@@ -57,7 +57,7 @@ class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
     }
     (*m)["kinetic_energy_j_per_m"] = kinetic;
   }
-  void AddSeriesColumns(std::vector<std::string>* columns) const override {
+  void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
     columns->push_back("bonds_broken");
   }
   void AddSample(const LiveState&, std::vector<double>* row) const override {
@@ -178,7 +178,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
       (*m)[fmt::format("{}_wall_stress_pa", side)] = wall_stress_pa_[w];
     }
   }
-  void AddSeriesColumns(std::vector<std::string>* columns) const override {
+  void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
     for (const char* column : {"position_m", "stress_pa"}) {
       for (const WallSpec& w : spec_.walls) {
         columns->push_back(fmt::format("{}_wall_{}", SideName(w.side), column));

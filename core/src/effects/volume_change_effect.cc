@@ -24,7 +24,6 @@ Status VolumeChangeEffect::Rebind(LiveState& s) {
   apparent_.assign(n, 0.0);
   pore_.assign(n, 0.0);
   change_.assign(s.net.flow.num_domains(), 0.0);
-  storage_ = s.storage;
   return Status::Ok();
 }
 
@@ -36,7 +35,7 @@ Status VolumeChangeEffect::Rebind(LiveState& s) {
 // a state hash shows is current, and is the same for a resumed run.
 Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
-  const bool pore = storage_.volume == StorageVolume::kPore;
+  const bool pore = s.storage.volume == StorageVolume::kPore;
   if (pore) {
     SEEP_RETURN_IF_ERROR(updater_.Compute(CurrentView(s), s.net.domains, apparent_, pore_));
   } else {
@@ -72,10 +71,17 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   return Status::Ok();
 }
 
-std::vector<double> VolumeChangeEffect::ReportedPoreVolumes(const LiveState& s) const {
+std::vector<double> ReportedPoreVolumes(const LiveState& s,
+                                        const VolumeChangeEffect* volume_change) {
+  if (volume_change != nullptr) return volume_change->CurrentPoreVolumes(s);
+  const auto kept = s.net.flow.pore_volume();
+  return {kept.begin(), kept.end()};
+}
+
+std::vector<double> VolumeChangeEffect::CurrentPoreVolumes(const LiveState& s) const {
   const auto kept = s.net.flow.pore_volume();
   std::vector<double> out(kept.begin(), kept.end());
-  if (storage_.volume == StorageVolume::kPore || !s.has_network) return out;
+  if (s.storage.volume == StorageVolume::kPore || !s.has_network) return out;
   const std::size_t n = s.net.domains.num_domains();
   std::vector<double> apparent(n), pore(n);
   const Status status = updater_.Compute(CurrentView(s), s.net.domains, apparent, pore);

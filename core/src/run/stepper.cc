@@ -65,14 +65,15 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
     return Internal("step loop: the contacts effect must lead the force list");
   }
   SEEP_RETURN_IF_ERROR(stepper->SetClock());
-  stepper->series_.columns = {"time_s"};
   // The network's columns lead, as they did before effects existed (a frozen packing has only
   // them); the others follow in canonical order.
-  if (stepper->effects_.flow != nullptr) {
-    stepper->effects_.flow->AddSeriesColumns(&stepper->series_.columns);
-  }
+  if (stepper->effects_.flow != nullptr) stepper->sample_order_.push_back(stepper->effects_.flow);
   for (const auto& effect : all) {
-    if (effect.get() != stepper->effects_.flow) effect->AddSeriesColumns(&stepper->series_.columns);
+    if (effect.get() != stepper->effects_.flow) stepper->sample_order_.push_back(effect.get());
+  }
+  stepper->series_.columns = {"time_s"};
+  for (const Effect* effect : stepper->sample_order_) {
+    effect->AddSeriesColumns(s, &stepper->series_.columns);
   }
   if (s.moves()) SEEP_RETURN_IF_ERROR(stepper->InitialForces());
   stepper->Sample();  // the initial state is the first row
@@ -158,9 +159,7 @@ std::vector<std::pair<std::string_view, double>> Stepper::EffectSeconds() const 
 }
 
 std::vector<double> Stepper::ReportedPoreVolumes() const {
-  if (effects_.volume_change != nullptr) return effects_.volume_change->ReportedPoreVolumes(state_);
-  const auto pore = state_.net.flow.pore_volume();
-  return {pore.begin(), pore.end()};
+  return core::ReportedPoreVolumes(state_, effects_.volume_change);
 }
 
 Status Stepper::InitialForces() {
@@ -264,10 +263,7 @@ Status Stepper::Step() {
 
 void Stepper::Sample() {
   series_.values.push_back(time_s_);
-  if (effects_.flow != nullptr) effects_.flow->AddSample(state_, &series_.values);
-  for (const auto& effect : effects_.all) {
-    if (effect.get() != effects_.flow) effect->AddSample(state_, &series_.values);
-  }
+  for (const Effect* effect : sample_order_) effect->AddSample(state_, &series_.values);
 }
 
 Metrics Stepper::Measure() const {

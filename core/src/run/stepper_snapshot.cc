@@ -54,6 +54,23 @@ Status CheckDetectionPairs(const MechanicsSnapshot& snap, std::size_t particles)
   return Status::Ok();
 }
 
+// The particles' dynamic fields, as the snapshot and the DEM arrays hold them (mass, radius and
+// inertia come from the scene).
+struct ParticleField {
+  const char* name;
+  std::vector<double> MechanicsSnapshot::*snapshot;
+  std::vector<double> DemParticles::*particles;
+};
+constexpr ParticleField kParticleFields[] = {
+    {"x", &MechanicsSnapshot::x, &DemParticles::x},
+    {"y", &MechanicsSnapshot::y, &DemParticles::y},
+    {"vx", &MechanicsSnapshot::vx, &DemParticles::vx},
+    {"vy", &MechanicsSnapshot::vy, &DemParticles::vy},
+    {"omega", &MechanicsSnapshot::omega, &DemParticles::omega},
+    {"fx", &MechanicsSnapshot::fx, &DemParticles::fx},
+    {"fy", &MechanicsSnapshot::fy, &DemParticles::fy},
+    {"torque", &MechanicsSnapshot::torque, &DemParticles::torque}};
+
 }  // namespace
 
 SimulationSnapshot Stepper::TakeSnapshot() const {
@@ -72,14 +89,7 @@ SimulationSnapshot Stepper::TakeSnapshot() const {
 void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
   const LiveState& s = state_;
   const DemParticles& p = s.particles;
-  out->x = p.x;
-  out->y = p.y;
-  out->vx = p.vx;
-  out->vy = p.vy;
-  out->omega = p.omega;
-  out->fx = p.fx;
-  out->fy = p.fy;
-  out->torque = p.torque;
+  for (const ParticleField& f : kParticleFields) out->*f.snapshot = p.*f.particles;
   out->walls.clear();
   for (const DemWall& w : s.walls) {
     out->walls.insert(out->walls.end(), {w.px, w.py, w.nx, w.ny, w.vx, w.vy});
@@ -141,17 +151,10 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
                                  const std::vector<double>& pressure) {
   LiveState& s = state_;
   const std::size_t n = s.particles.size();
-  const std::pair<const char*, const std::vector<double>*> fields[] = {
-      {"x", &snap.x},
-      {"y", &snap.y},
-      {"vx", &snap.vx},
-      {"vy", &snap.vy},
-      {"omega", &snap.omega},
-      {"fx", &snap.fx},
-      {"fy", &snap.fy},
-      {"torque", &snap.torque},
-      {"detection_x", &snap.detection_x},
-      {"detection_y", &snap.detection_y}};
+  std::vector<std::pair<const char*, const std::vector<double>*>> fields;
+  for (const ParticleField& f : kParticleFields) fields.emplace_back(f.name, &(snap.*f.snapshot));
+  fields.emplace_back("detection_x", &snap.detection_x);
+  fields.emplace_back("detection_y", &snap.detection_y);
   for (const auto& [name, values] : fields) {
     SEEP_RETURN_IF_ERROR(CheckLength(name, values->size(), n));
     SEEP_RETURN_IF_ERROR(CheckFinite(fmt::format("mechanics.{}", name), *values));
@@ -192,14 +195,7 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
   // before it changes anything.
   SEEP_RETURN_IF_ERROR(s.contacts->RestoreState(snap.contacts, n, s.walls.size()));
   DemParticles& p = s.particles;
-  p.x = snap.x;
-  p.y = snap.y;
-  p.vx = snap.vx;
-  p.vy = snap.vy;
-  p.omega = snap.omega;
-  p.fx = snap.fx;
-  p.fy = snap.fy;
-  p.torque = snap.torque;
+  for (const ParticleField& f : kParticleFields) p.*f.particles = snap.*f.snapshot;
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const double* v = &snap.walls[6 * w];
     s.walls[w] = DemWall{v[0], v[1], v[2], v[3], v[4], v[5]};

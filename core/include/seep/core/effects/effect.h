@@ -77,7 +77,8 @@ class Effect {
 
   // What the effect measures, for the run report and the time series (one value per column).
   virtual void AddMetrics(const LiveState& /*state*/, Metrics* /*out*/) const {}
-  virtual void AddSeriesColumns(std::vector<std::string>* /*columns*/) const {}
+  virtual void AddSeriesColumns(const LiveState& /*state*/,
+                                std::vector<std::string>* /*columns*/) const {}
   virtual void AddSample(const LiveState& /*state*/, std::vector<double>* /*row*/) const {}
 
  private:

@@ -32,7 +32,7 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   void SaveTo(EffectStates* out) const override { out->flow = state_; }
   void RestoreFrom(const EffectStates& in) override { state_ = in.flow; }
   void AddMetrics(const LiveState& s, Metrics* m) const override;
-  void AddSeriesColumns(std::vector<std::string>* columns) const override;
+  void AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const override;
   void AddSample(const LiveState& s, std::vector<double>* row) const override;
 
   FlowMode mode() const { return mode_; }
@@ -46,7 +46,6 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::uint64_t every_steps() const { return every_steps_; }
 
  private:
-  const SceneSpec* scene_ = nullptr;
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
   const VolumeChangeEffect* volume_change_ = nullptr;

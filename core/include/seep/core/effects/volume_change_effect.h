@@ -8,7 +8,6 @@
 
 #include "seep/core/coupling/domain_volume_update.h"
 #include "seep/core/effects/effect.h"
-#include "seep/core/flow/fluid.h"
 
 namespace seep::core {
 
@@ -24,16 +23,19 @@ class VolumeChangeEffect final : public Effect {
   // dV per flow node over the current flow interval (reservoirs 0).
   std::span<const double> change() const { return change_; }
 
-  // V_p of every flow node at the particles now, as a report, an export or a snapshot shows it:
-  // with apparent storage the network keeps the detected V_p (see EndOfStep), so it is computed
-  // here from the positions.
-  std::vector<double> ReportedPoreVolumes(const LiveState& s) const;
+  // V_p of every flow node at the particles now: with apparent storage the network keeps the
+  // detected V_p (see EndOfStep), so it is computed here from the positions.
+  std::vector<double> CurrentPoreVolumes(const LiveState& s) const;
 
  private:
   DomainVolumeUpdater updater_;
-  StorageModel storage_;
   std::vector<double> apparent_, pore_;
   std::vector<double> change_;
 };
+
+// V_p of every flow node as a report, an export or a snapshot shows it: current when the volumes
+// follow the particles (`volume_change` listed), else the network's.
+std::vector<double> ReportedPoreVolumes(const LiveState& s,
+                                        const VolumeChangeEffect* volume_change);
 
 }  // namespace seep::core

@@ -92,7 +92,8 @@ class Stepper {
   EffectSet effects_;
   // Hook lists hold indices into effects_.all (so each call can be timed against its effect).
   std::vector<std::size_t> force_, post_force_, end_of_step_;
-  std::vector<double> effect_seconds_;  // per effects_.all entry
+  std::vector<double> effect_seconds_;       // per effects_.all entry
+  std::vector<const Effect*> sample_order_;  // whose series columns come in which order
   double integration_seconds_ = 0.0;
   // The clock.
   double dt_ = 0.0;
