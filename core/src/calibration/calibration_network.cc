@@ -14,13 +14,6 @@
 namespace seep::core::calibration_internal {
 namespace {
 
-// Rate (m^2/s) at which fluid leaves fixed-pressure node `node` into the sample (as RunScene).
-double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node) {
-  const auto it = std::lower_bound(fluxes.domain.begin(), fluxes.domain.end(), node);
-  if (it == fluxes.domain.end() || *it != node) return 0.0;
-  return fluxes.inflow[static_cast<std::size_t>(it - fluxes.domain.begin())];
-}
-
 struct ListedForce {
   std::int32_t i;
   std::int32_t j;

@@ -9,14 +9,6 @@
 namespace seep::core::effects_internal {
 namespace {
 
-// Rate (m^2/s) at which fluid leaves fixed-pressure node `node` into the sample; 0 when no pipe
-// joins it to a free domain. `domain` is sorted, as ComputeBoundaryFluxes emits it.
-double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node) {
-  const auto it = std::lower_bound(fluxes.domain.begin(), fluxes.domain.end(), node);
-  if (it == fluxes.domain.end() || *it != node) return 0.0;
-  return fluxes.inflow[static_cast<std::size_t>(it - fluxes.domain.begin())];
-}
-
 // The rate into fixed-pressure node `node` out of the sample; 0 - x rather than -x, so that no
 // flow reads 0 and not -0.
 double NodeOutflow(const BoundaryFluxes& fluxes, std::int32_t node) {

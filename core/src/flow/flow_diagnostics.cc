@@ -1,5 +1,6 @@
 #include "seep/core/flow/flow_diagnostics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -99,6 +100,12 @@ Result<double> DarcyPermeability(double viscosity, double flow_rate, double leng
   }
   if (!std::isfinite(flow_rate)) return InvalidArgument("flow.darcy.flow_rate: must be finite");
   return viscosity * flow_rate * length / (height * pressure_drop);
+}
+
+double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node) {
+  const auto it = std::lower_bound(fluxes.domain.begin(), fluxes.domain.end(), node);
+  if (it == fluxes.domain.end() || *it != node) return 0.0;
+  return fluxes.inflow[static_cast<std::size_t>(it - fluxes.domain.begin())];
 }
 
 }  // namespace seep::core

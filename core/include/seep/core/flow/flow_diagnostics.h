@@ -25,6 +25,10 @@ struct BoundaryFluxes {
 // Pipes between two fixed nodes carry flow but do not touch the network's unknowns: excluded.
 BoundaryFluxes ComputeBoundaryFluxes(const FlowNetwork& network);
 
+// The rate (m^2/s) at which fluid leaves fixed-pressure node `node` into the network; 0 when no
+// pipe joins it to a non-fixed domain (or node < 0).
+double NodeInflow(const BoundaryFluxes& fluxes, std::int32_t node);
+
 // sum over non-fixed domains of V_s P / K_f (m^2): the part of the fluid mass proxy that changes.
 Result<double> StoredFluidExcess(const FlowNetwork& network, double bulk_modulus,
                                  const StorageModel& storage);
