@@ -50,6 +50,7 @@ void DomainNetwork::Clear() {
   euler = EulerCounts{};
   num_pruned_particles = 0;
   num_nonpositive_domains = 0;
+  walls.Clear();
 }
 
 std::size_t DomainNetwork::MemoryBytes() const {
@@ -59,7 +60,7 @@ std::size_t DomainNetwork::MemoryBytes() const {
          Bytes(pipe_length) + Bytes(boundary_pipe_domain) + Bytes(boundary_pipe_contact) +
          Bytes(boundary_pipe_outer_face) + Bytes(boundary_pipe_length) + Bytes(boundary_pipe_x) +
          Bytes(boundary_pipe_y) + Bytes(outer_offsets) + Bytes(outer_particles) +
-         Bytes(outer_contacts) + Bytes(outer_area) + Bytes(outer_host_domain);
+         Bytes(outer_contacts) + Bytes(outer_area) + Bytes(outer_host_domain) + walls.MemoryBytes();
 }
 
 std::size_t DomainDetector::MemoryBytes() const {
@@ -70,7 +71,8 @@ std::size_t DomainDetector::MemoryBytes() const {
          Bytes(face_sector_area_) + Bytes(face_half_lens_) + Bytes(face_centroid_x_) +
          Bytes(face_centroid_y_) + Bytes(face_component_) + Bytes(face_domain_) +
          Bytes(component_outer_face_) + Bytes(grid_start_) + Bytes(grid_items_) +
-         Bytes(domain_box_) + Bytes(particle_host_);
+         Bytes(domain_box_) + Bytes(particle_host_) + wall_graph_packing_.MemoryBytes() +
+         wall_graph_contacts_.MemoryBytes();
 }
 
 namespace {
@@ -85,17 +87,49 @@ Status DomainDetector::Detect(const Packing& packing, const ContactList& contact
                               const DomainDetectionOptions& options, DomainNetwork* network) {
   g_domain_detection_calls.fetch_add(1, std::memory_order_relaxed);
   network->Clear();
-  SEEP_RETURN_IF_ERROR(BuildGraph(packing, contacts, options));
+  SEEP_RETURN_IF_ERROR(CheckInput(packing, contacts));
+  BuildGraph(packing, contacts, options);
+  Trace(packing, contacts, network);
+  return Status::Ok();
+}
+
+Status DomainDetector::Detect(const Packing& packing, const ContactList& contacts,
+                              std::span<const DetectionWall> walls,
+                              const WallContactList& wall_contacts,
+                              const DomainDetectionOptions& options, DomainNetwork* network) {
+  if (walls.empty()) return Detect(packing, contacts, options, network);
+  g_domain_detection_calls.fetch_add(1, std::memory_order_relaxed);
+  network->Clear();
+  SEEP_RETURN_IF_ERROR(CheckInput(packing, contacts));
+  for (std::size_t k = 0; k < wall_contacts.gap.size(); ++k) {
+    if (!(wall_contacts.gap[k] <= options.max_gap)) {
+      return InvalidArgument("domain detection: wall contact " + std::to_string(k) + " (particle " +
+                             std::to_string(wall_contacts.particle[k]) + ", wall " +
+                             std::to_string(wall_contacts.wall[k]) + ") has gap " +
+                             std::to_string(wall_contacts.gap[k]) + " above max_gap");
+    }
+  }
+  SEEP_RETURN_IF_ERROR(BuildWallGraph(packing, contacts, walls, wall_contacts, &network->walls,
+                                      &wall_graph_packing_, &wall_graph_contacts_));
+  if (wall_graph_packing_.size() > static_cast<std::size_t>(INT32_MAX) ||
+      2 * wall_graph_contacts_.size() > static_cast<std::size_t>(INT32_MAX)) {
+    return InvalidArgument("domain detection: too many particles or contacts for 32-bit ids");
+  }
+  BuildGraph(wall_graph_packing_, wall_graph_contacts_, options);
+  Trace(wall_graph_packing_, wall_graph_contacts_, network);
+  return Status::Ok();
+}
+
+void DomainDetector::Trace(const Packing& packing, const ContactList& contacts,
+                           DomainNetwork* network) {
   PruneLowDegree();
   SortAndLinkHalfEdges(packing, contacts);
   LabelComponents();
   TraceFaces(packing, contacts);
   EmitNetwork(packing, contacts, network);
-  return Status::Ok();
 }
 
-Status DomainDetector::BuildGraph(const Packing& packing, const ContactList& contacts,
-                                  const DomainDetectionOptions& options) {
+Status DomainDetector::CheckInput(const Packing& packing, const ContactList& contacts) const {
   const std::size_t n = packing.size();
   const std::size_t m = contacts.size();
   if (packing.y.size() != n || packing.radius.size() != n) {
@@ -109,7 +143,6 @@ Status DomainDetector::BuildGraph(const Packing& packing, const ContactList& con
   }
   const std::int32_t* ci = contacts.i.data();
   const std::int32_t* cj = contacts.j.data();
-  const double* gap = contacts.gap.data();
   for (std::size_t c = 0; c < m; ++c) {
     const bool ids_ok = ci[c] >= 0 && ci[c] < cj[c] && static_cast<std::size_t>(cj[c]) < n;
     const bool order_ok = c == 0 || ci[c - 1] < ci[c] || (ci[c - 1] == ci[c] && cj[c - 1] < cj[c]);
@@ -120,16 +153,38 @@ Status DomainDetector::BuildGraph(const Packing& packing, const ContactList& con
                              " and follow its predecessor in (i, j) order");
     }
   }
+  return Status::Ok();
+}
 
+void DomainDetector::BuildGraph(const Packing& packing, const ContactList& contacts,
+                                const DomainDetectionOptions& options) {
+  const std::size_t n = packing.size();
+  const std::size_t m = contacts.size();
+  const std::int32_t* ci = contacts.i.data();
+  const std::int32_t* cj = contacts.j.data();
+  const double* gap = contacts.gap.data();
   max_gap_ = options.max_gap;
   degree_.assign(n, 0);
   half_lens_.resize(m);
   const double* r = packing.radius.data();
+  // Radius 0 marks a wall vertex (domain_walls.h): a stretch of wall (two of them) is always an
+  // edge, and a foot edge's overlap is the disk's segment beyond the wall, which is half the lens
+  // of the disk and its mirror image.
+  const auto is_edge = [&](std::size_t c) {
+    return gap[c] <= options.max_gap || (r[ci[c]] == 0.0 && r[cj[c]] == 0.0);
+  };
   for (std::size_t c = 0; c < m; ++c) {
     // Lenses are needed for every overlapping pair, edge or not (rattlers overlap too).
-    half_lens_[c] =
-        gap[c] < 0.0 ? 0.5 * LensArea(r[ci[c]], r[cj[c]], r[ci[c]] + r[cj[c]] + gap[c]) : 0.0;
-    if (gap[c] <= options.max_gap) {
+    const double ri = r[ci[c]];
+    const double rj = r[cj[c]];
+    if (!(gap[c] < 0.0)) {
+      half_lens_[c] = 0.0;
+    } else if (rj == 0.0) {
+      half_lens_[c] = 0.25 * LensArea(ri, ri, 2.0 * (ri + gap[c]));
+    } else {
+      half_lens_[c] = 0.5 * LensArea(ri, rj, ri + rj + gap[c]);
+    }
+    if (is_edge(c)) {
       ++degree_[static_cast<std::size_t>(ci[c])];
       ++degree_[static_cast<std::size_t>(cj[c])];
     }
@@ -143,7 +198,7 @@ Status DomainDetector::BuildGraph(const Packing& packing, const ContactList& con
   // prune_queue_ doubles as the fill cursor here; pruning reinitialises it.
   prune_queue_.assign(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
   for (std::size_t c = 0; c < m; ++c) {
-    if (!(gap[c] <= options.max_gap)) continue;
+    if (!is_edge(c)) continue;
     const std::int32_t a = ci[c];
     const std::int32_t b = cj[c];
     const std::size_t sa = static_cast<std::size_t>(prune_queue_[static_cast<std::size_t>(a)]++);
@@ -153,7 +208,6 @@ Status DomainDetector::BuildGraph(const Packing& packing, const ContactList& con
     slot_target_[sb] = a;
     slot_contact_[sb] = static_cast<std::int32_t>(c);
   }
-  return Status::Ok();
 }
 
 void DomainDetector::PruneLowDegree() {

@@ -48,8 +48,12 @@
 // the caller decides by position (e.g. the contact point's x) which reservoir, if any, it drains
 // into. Domains beside a top-level outer loop are flagged is_boundary.
 //
+// Walls (domain_walls.h): with walls, the graph also has wall vertices (ids from the particle
+// count on, radius 0) and wall edges (ids from the contact count on); loops, outer walks, pipes
+// and boundary pipes then name them like particles and contacts, and `walls` says what they are.
+//
 // Not done here (left to the scene, physics.md §2.6): merging tiny domains, periodic boundaries,
-// wall contacts (domains closed by walls), mapping pressures across a re-detection. Faces of a
+// mapping pressures across a re-detection. Faces of a
 // non-planar embedding (big overlaps crossing other edges) still give a valid, deterministic
 // network, but a domain can then have V_d <= 0; `num_nonpositive_domains` counts them.
 #pragma once
@@ -57,9 +61,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "seep/core/geometry/contact_detection.h"
+#include "seep/core/geometry/domain_walls.h"
 #include "seep/core/geometry/packing.h"
 #include "seep/core/status.h"
 
@@ -116,6 +122,9 @@ struct DomainNetwork {
   std::vector<double> outer_area;               // area enclosed by the outer loop (> 0)
   std::vector<std::int32_t> outer_host_domain;  // domain holding this island, -1 if top level
 
+  // ---- the wall vertices and wall edges of a detection with walls (empty otherwise) ----
+  DomainWalls walls;
+
   EulerCounts euler;
   std::int64_t num_pruned_particles = 0;  // rattlers and dangling-chain particles
   std::int64_t num_nonpositive_domains = 0;
@@ -141,12 +150,19 @@ class DomainDetector {
   // ContactDetector produces); otherwise InvalidArgument naming the offending contact.
   Status Detect(const Packing& packing, const ContactList& contacts,
                 const DomainDetectionOptions& options, DomainNetwork* network);
+  // With walls: the pores along them are domains closed by the wall segments (domain_walls.h).
+  // wall_contacts: sorted by (particle, wall), each with gap <= options.max_gap.
+  Status Detect(const Packing& packing, const ContactList& contacts,
+                std::span<const DetectionWall> walls, const WallContactList& wall_contacts,
+                const DomainDetectionOptions& options, DomainNetwork* network);
 
   std::size_t MemoryBytes() const;
 
  private:
-  Status BuildGraph(const Packing& packing, const ContactList& contacts,
-                    const DomainDetectionOptions& options);
+  Status CheckInput(const Packing& packing, const ContactList& contacts) const;
+  void BuildGraph(const Packing& packing, const ContactList& contacts,
+                  const DomainDetectionOptions& options);
+  void Trace(const Packing& packing, const ContactList& contacts, DomainNetwork* network);
   void PruneLowDegree();
   void SortAndLinkHalfEdges(const Packing& packing, const ContactList& contacts);
   void LabelComponents();
@@ -190,6 +206,9 @@ class DomainDetector {
   std::vector<std::int32_t> particle_host_;  // per pruned particle: domain holding it, or -1
   std::vector<std::int32_t> pruned_parent_;  // union-find over edges between pruned particles
   double max_gap_ = 0.0;                     // edge threshold of the current call
+  // The graph with its wall vertices and edges (a detection with walls only).
+  Packing wall_graph_packing_;
+  ContactList wall_graph_contacts_;
 };
 
 // Convenience wrapper with a throw-away detector.
