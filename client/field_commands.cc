@@ -116,8 +116,14 @@ bool WriteStep(const ExportOptions& options, const v1::GetJobFieldsResponse& res
            WriteOutput(dir / fmt::format("pipes_{}.csv", step), Csv(pipe_names, pipe_columns),
                        written);
   }
+  // Loop ids past the particles are wall vertices (walls in the fluid): polygons need both.
   const std::vector<double> px = Doubles(f.particle_x_m());
   const std::vector<double> py = Doubles(f.particle_y_m());
+  const std::vector<double> wx = Doubles(f.wall_vertex_x_m());
+  const std::vector<double> wy = Doubles(f.wall_vertex_y_m());
+  std::vector<double> vx = px, vy = py;
+  vx.insert(vx.end(), wx.begin(), wx.end());
+  vy.insert(vy.end(), wy.begin(), wy.end());
   const std::vector<std::int32_t> offsets(f.domain_loop_offsets().begin(),
                                           f.domain_loop_offsets().end());
   const std::vector<std::int32_t> loops(f.domain_loop_particles().begin(),
@@ -126,7 +132,7 @@ bool WriteStep(const ExportOptions& options, const v1::GetJobFieldsResponse& res
                      VtkPointCloud(px, py, {{"radius_m", Doubles(f.particle_radius_m())}}),
                      written) &&
          WriteOutput(dir / fmt::format("domains_{}.vtu", step),
-                     VtkPolygons(px, py, offsets, loops, domains), written) &&
+                     VtkPolygons(vx, vy, offsets, loops, domains), written) &&
          WriteOutput(dir / fmt::format("pipes_{}.vtp", step),
                      VtkSegments(Doubles(f.pipe_x0_m()), Doubles(f.pipe_y0_m()),
                                  Doubles(f.pipe_x1_m()), Doubles(f.pipe_y1_m()), pipes),

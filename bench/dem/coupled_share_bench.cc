@@ -57,8 +57,8 @@ SceneSpec BedScene(const Packing& bed, bool coupled, std::uint64_t flow_every) {
   contacts.dt_safety = 1e-4 / std::sqrt(3.14159265358979 * 0.16 / 2.0e6);
   contacts.skin_m = 0.1;
   WallsEffectSpec walls;
-  walls.walls = {WallSpec{WallSide::kBottom}, WallSpec{WallSide::kLeft},
-                 WallSpec{WallSide::kRight}};
+  walls.walls = {SideWall(WallSide::kBottom), SideWall(WallSide::kLeft),
+                 SideWall(WallSide::kRight)};
   s.effects = {contacts, GravityEffectSpec{0.0, -10.0}, walls};
   if (coupled) {
     s.effects.push_back(FlowEffectSpec{static_cast<std::uint32_t>(flow_every)});

@@ -63,6 +63,13 @@ Result<core::WallsEffectSpec> WallsFromProto(const v1::WallsEffect& w, const std
     out.servo_stress_pa = wall.servo_stress_pa();
     out.servo_gain_fraction = wall.servo_gain_fraction() == 0.0 ? 0.5 : wall.servo_gain_fraction();
     out.servo_max_speed_m_s = wall.servo_max_speed_m_s();
+    out.servo_effective_stress = wall.servo_effective_stress();
+    if (wall.has_drain()) {
+      core::WallDrainSpec drain;
+      if (wall.drain().has_pressure_pa()) drain.pressure_pa = wall.drain().pressure_pa();
+      drain.conductance_m_per_pa_s = wall.drain().conductance_m_per_pa_s();
+      out.drain = drain;
+    }
     spec.walls.push_back(out);
   }
   return spec;

@@ -25,6 +25,8 @@ void SceneFieldsToProto(const core::SceneFields& f, v1::JobFields* out) {
   Copy(f.domain_pore_volume, out->mutable_domain_pore_volume_m2());
   Copy(f.domain_loop_offsets, out->mutable_domain_loop_offsets());
   Copy(f.domain_loop_particles, out->mutable_domain_loop_particles());
+  Copy(f.wall_vertex_x, out->mutable_wall_vertex_x_m());
+  Copy(f.wall_vertex_y, out->mutable_wall_vertex_y_m());
   Copy(f.pipe_domain_a, out->mutable_pipe_domain_a());
   Copy(f.pipe_domain_b, out->mutable_pipe_domain_b());
   Copy(f.pipe_particle_i, out->mutable_pipe_particle_i());

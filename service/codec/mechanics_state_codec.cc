@@ -129,6 +129,14 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
   out->mutable_detection_j()->Assign(snapshot.detection_j.begin(), snapshot.detection_j.end());
   out->mutable_detection_gap()->Assign(snapshot.detection_gap.begin(),
                                        snapshot.detection_gap.end());
+  out->mutable_detection_walls()->Assign(snapshot.detection_walls.begin(),
+                                         snapshot.detection_walls.end());
+  out->mutable_detection_wall_particle()->Assign(snapshot.detection_wall_particle.begin(),
+                                                 snapshot.detection_wall_particle.end());
+  out->mutable_detection_wall_wall()->Assign(snapshot.detection_wall_wall.begin(),
+                                             snapshot.detection_wall_wall.end());
+  out->mutable_detection_wall_gap()->Assign(snapshot.detection_wall_gap.begin(),
+                                            snapshot.detection_wall_gap.end());
   out->mutable_apparent_volume()->Assign(snapshot.apparent_volume.begin(),
                                          snapshot.apparent_volume.end());
   out->mutable_pore_volume()->Assign(snapshot.pore_volume.begin(), snapshot.pore_volume.end());
@@ -154,6 +162,13 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
   snap.detection_i.assign(state.detection_i().begin(), state.detection_i().end());
   snap.detection_j.assign(state.detection_j().begin(), state.detection_j().end());
   snap.detection_gap.assign(state.detection_gap().begin(), state.detection_gap().end());
+  snap.detection_walls.assign(state.detection_walls().begin(), state.detection_walls().end());
+  snap.detection_wall_particle.assign(state.detection_wall_particle().begin(),
+                                      state.detection_wall_particle().end());
+  snap.detection_wall_wall.assign(state.detection_wall_wall().begin(),
+                                  state.detection_wall_wall().end());
+  snap.detection_wall_gap.assign(state.detection_wall_gap().begin(),
+                                 state.detection_wall_gap().end());
   snap.apparent_volume.assign(state.apparent_volume().begin(), state.apparent_volume().end());
   snap.pore_volume.assign(state.pore_volume().begin(), state.pore_volume().end());
   snap.aperture.assign(state.aperture().begin(), state.aperture().end());

@@ -147,6 +147,16 @@ Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
     case v1::FLOW_AXIS_Y:
       spec.axis = core::FlowAxis::kY;
       break;
+    case v1::FLOW_AXIS_UNSPECIFIED:
+      // Neither linear nor radial: the walls bound the fluid (validation checks there are walls).
+      if (boundary.inlet_pressure_pa() != 0.0 || boundary.outlet_pressure_pa() != 0.0 ||
+          boundary.closed_inlet()) {
+        return InvalidArgument(
+            "scene.boundary.axis: must be FLOW_AXIS_X or FLOW_AXIS_Y with inlet or outlet "
+            "pressures or closed_inlet (unset, the walls alone bound the fluid)");
+      }
+      spec.walls_only = true;
+      return spec;
     default:
       return InvalidArgument(fmt::format(
           "scene.boundary.axis: must be FLOW_AXIS_X or FLOW_AXIS_Y, or set boundary.radial (got "

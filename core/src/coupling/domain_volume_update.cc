@@ -32,9 +32,14 @@ inline bool ShallowHalfLens(double r_lo, double r_hi, double inv_r_lo, double in
   return covered;
 }
 
-// Half the lens of any pair.
+// Half the lens of any pair. A wall vertex (radius 0, domain_walls.h) has the larger id, so it
+// is hi: a foot edge's overlap is the disk's segment beyond the wall (half the lens of the disk
+// and its mirror image), half of which lies on each side of the edge; a stretch overlaps nothing.
+// (The short series of pass 1 cannot take radius 0: 0 x 1/0 flags these edges for this path.)
 inline double HalfLens(double r_lo, double r_hi, double dx, double dy) {
-  return 0.5 * LensArea(r_lo, r_hi, std::sqrt(dx * dx + dy * dy));
+  const double d = std::sqrt(dx * dx + dy * dy);
+  if (r_hi == 0.0) return r_lo == 0.0 ? 0.0 : 0.25 * LensArea(r_lo, r_lo, 2.0 * d);
+  return 0.5 * LensArea(r_lo, r_hi, d);
 }
 
 // atan z for |z| <= 1/32: z (1 - z^2/3 + z^4/5 - z^6/7 + z^8/9), whose first omitted term is

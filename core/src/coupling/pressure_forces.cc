@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "../parallel_threshold.h"
@@ -161,6 +162,11 @@ struct SideForces {
 
 void PressureForceKernel::Apply(const ParticleView& particles, const double* slot_pressure,
                                 double* fx, double* fy) const {
+  Apply(particles, slot_pressure, {fx, fy});
+}
+
+void PressureForceKernel::Apply(const ParticleView& particles, const double* slot_pressure,
+                                const ForceOutput& out) const {
   const ContactTerms* terms = terms_.data();
   // Each side's pressure difference times R(arm), R(v) = (v_y, -v_x) (see the header).
   const auto forces_of = [&](std::ptrdiff_t c) {
@@ -170,15 +176,25 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
     const double dp_hi = slot_pressure[t.backward_hi] - slot_pressure[t.forward_hi];
     return SideForces{dp_lo * arm.ay, -dp_lo * arm.ax, dp_hi * arm.by, -dp_hi * arm.bx};
   };
+  // Wall vertices (ids from out.num_particles on) write to the vertex arrays.
+  const auto first_vertex = static_cast<std::int32_t>(
+      std::min<std::size_t>(out.num_particles, std::numeric_limits<std::int32_t>::max()));
+  const auto add = [&](std::int32_t id, double x, double y) {
+    if (id < first_vertex) {
+      out.fx[id] += x;
+      out.fy[id] += y;
+    } else {
+      out.vertex_fx[id - first_vertex] += x;
+      out.vertex_fy[id - first_vertex] += y;
+    }
+  };
   const auto contacts = static_cast<std::ptrdiff_t>(terms_.size());
   if (contacts < internal::kMinParallelItems || omp_get_max_threads() == 1) {
     // One thread: add each contact's forces straight away, in ascending contact order.
     for (std::ptrdiff_t c = 0; c < contacts; ++c) {
       const SideForces s = forces_of(c);
-      fx[terms[c].lo] += s.lo_x;
-      fy[terms[c].lo] += s.lo_y;
-      fx[terms[c].hi] += s.hi_x;
-      fy[terms[c].hi] += s.hi_y;
+      add(terms[c].lo, s.lo_x, s.lo_y);
+      add(terms[c].hi, s.hi_x, s.hi_y);
     }
     return;
   }
@@ -201,13 +217,16 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
     }
 #pragma omp for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
-      double ax = fx[i], ay = fy[i];
+      const bool vertex = i >= first_vertex;
+      double* px = vertex ? out.vertex_fx + (i - first_vertex) : out.fx + i;
+      double* py = vertex ? out.vertex_fy + (i - first_vertex) : out.fy + i;
+      double ax = *px, ay = *py;
       for (std::int32_t k = start[i]; k < start[i + 1]; ++k) {
         ax += side_x[items[k]];
         ay += side_y[items[k]];
       }
-      fx[i] = ax;
-      fy[i] = ay;
+      *px = ax;
+      *py = ay;
     }
   }
 }
@@ -318,6 +337,13 @@ Status OuterArcPressures::Compute(const DomainNetwork& network,
   }
   for (std::size_t b = 0; b < num_boundary; ++b) {
     boundary_pipe_of_contact_[static_cast<std::size_t>(network.boundary_pipe_contact[b])] = -1;
+  }
+  // The outside of a wall is not the sample's: nothing there pushes on the wall (the pressure
+  // behind a drained platen holds the platen, not the sample).
+  if (!network.walls.empty()) {
+    for (std::size_t q = 0; q < entries; ++q) {
+      if (network.walls.IsWallVertex(network.outer_particles[q])) out[q] = 0.0;
+    }
   }
   return Status::Ok();
 }

@@ -534,6 +534,23 @@ Status DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<co
   return Status::Ok();
 }
 
+void DemContactForces::CollectFlowWallContacts(double max_gap, const DemParticles& particles,
+                                               WallContactList* out,
+                                               std::vector<double>* normal_force) const {
+  out->Clear();
+  if (normal_force != nullptr) normal_force->clear();
+  for (std::size_t c = 0; c < wall_p_.size(); ++c) {
+    const double gap = wall_gap_[c];
+    if (!(gap <= max_gap) || !(gap > -particles.radius[static_cast<std::size_t>(wall_p_[c])])) {
+      continue;
+    }
+    out->particle.push_back(wall_p_[c]);
+    out->wall.push_back(wall_w_[c]);
+    out->gap.push_back(gap);
+    if (normal_force != nullptr) normal_force->push_back(wall_fn_[c]);
+  }
+}
+
 void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* out) const {
   out->clear();
   for (std::size_t c = 0; c < wall_p_.size(); ++c) {

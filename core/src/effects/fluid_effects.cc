@@ -11,6 +11,7 @@
 #include "seep/core/coupling/contact_apertures.h"
 #include "seep/core/coupling/pressure_forces.h"
 #include "seep/core/effects/fluid_stable_step.h"
+#include "seep/core/effects/fluid_vertices.h"
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/flow/time_step_limit.h"
 #include "seep/core/log.h"
@@ -49,8 +50,22 @@ class FluidForcesEffect final : public Effect {
       }
     }
     boundary_pressure_.assign(d.num_boundary_pipes(), 0.0);
-    SEEP_RETURN_IF_ERROR(kernel_.Bind(d, s.particles.size()));
+    const DomainWalls& walls = d.walls;
+    SEEP_RETURN_IF_ERROR(kernel_.Bind(d, s.particles.size() + walls.num_vertices()));
     slot_pressure_.assign(kernel_.num_slots(), 0.0);
+    vertex_fx_.assign(walls.num_vertices(), 0.0);
+    vertex_fy_.assign(walls.num_vertices(), 0.0);
+    // The domains each wall closes, with the length of wall they span at detection.
+    wall_pores_.clear();
+    for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
+      const std::int32_t c = d.boundary_pipe_contact[k];
+      if (!walls.IsWallEdge(c) || walls.edge_particle[walls.Edge(c)] >= 0) continue;
+      wall_pores_.push_back({walls.edge_wall[walls.Edge(c)], d.boundary_pipe_domain[k],
+                             walls.edge_gap[walls.Edge(c)]});
+    }
+    // Sized by the network's walls: the walls effect binds after this one.
+    s.wall_pore_force.assign(s.net.walls.size(), 0.0);
+    s.wall_fluid_stiffness.assign(s.net.walls.size(), 0.0);
     return Status::Ok();
   }
 
@@ -69,18 +84,63 @@ class FluidForcesEffect final : public Effect {
     std::copy(arc_pressure_.begin(), arc_pressure_.end(),
               slot_pressure_.begin() + static_cast<std::ptrdiff_t>(domains));
     ++s.counters.pressure_force_passes;
-    kernel_.Apply(CurrentView(s), slot_pressure_.data(), s.particles.fx.data(),
-                  s.particles.fy.data());
+    if (vertex_fx_.empty()) {
+      kernel_.Apply(CurrentView(s), slot_pressure_.data(), s.particles.fx.data(),
+                    s.particles.fy.data());
+      return Status::Ok();
+    }
+    std::fill(vertex_fx_.begin(), vertex_fx_.end(), 0.0);
+    std::fill(vertex_fy_.begin(), vertex_fy_.end(), 0.0);
+    kernel_.Apply(vertices_.Current(s), slot_pressure_.data(),
+                  {s.particles.fx.data(), s.particles.fy.data(), s.particles.size(),
+                   vertex_fx_.data(), vertex_fy_.data()});
+    AddWallLoads(s);
     return Status::Ok();
   }
 
  private:
+  struct WallPore {
+    std::int32_t wall, domain;
+    double length;  // of the stretch of wall closing it, at detection
+  };
+
+  // The wall vertices' forces summed per wall along its inward normal (a corner's force splits
+  // between its two walls by projection, exact for walls at right angles), and the stiffness of
+  // the sealed pores along each wall (dP = K_f dV / V_s, dV = l du).
+  void AddWallLoads(LiveState& s) const {
+    const DomainWalls& walls = s.net.domains.walls;
+    std::fill(s.wall_pore_force.begin(), s.wall_pore_force.end(), 0.0);
+    for (std::size_t v = 0; v < walls.num_vertices(); ++v) {
+      for (const std::int32_t w : {walls.vertex_wall[v], walls.vertex_other_wall[v]}) {
+        if (w < 0) continue;
+        const DemWall& wall = s.walls[static_cast<std::size_t>(w)];
+        s.wall_pore_force[static_cast<std::size_t>(w)] -=
+            vertex_fx_[v] * wall.nx + vertex_fy_[v] * wall.ny;
+      }
+    }
+    std::fill(s.wall_fluid_stiffness.begin(), s.wall_fluid_stiffness.end(), 0.0);
+    const double bulk = s.scene->fluid.bulk_modulus_pa;
+    const auto role = s.net.flow.role();
+    for (const WallPore& pore : wall_pores_) {
+      const auto d = static_cast<std::size_t>(pore.domain);
+      if (role[d] == DomainRole::kFixedPressure) continue;
+      const double volume = StorageVolumeOf(s.net.flow, s.storage, d);
+      if (volume > 0.0) {
+        s.wall_fluid_stiffness[static_cast<std::size_t>(pore.wall)] +=
+            bulk * pore.length * pore.length / volume;
+      }
+    }
+  }
+
   PressureForceKernel kernel_;
   std::vector<double> slot_pressure_;  // domain pressures, then the outer arcs
   std::vector<std::int32_t> reservoir_of_boundary_pipe_;
   std::vector<double> boundary_pressure_;
   std::vector<double> arc_pressure_;
   OuterArcPressures outer_;
+  FluidVertices vertices_;
+  std::vector<double> vertex_fx_, vertex_fy_;  // per wall vertex, the pressure force on it
+  std::vector<WallPore> wall_pores_;
 };
 
 class ApertureUpdateEffect final : public Effect {
@@ -113,10 +173,16 @@ class ApertureUpdateEffect final : public Effect {
     if (pair_version_ != dem.pair_table_version()) {
       SEEP_RETURN_IF_ERROR(dem.FindPairs(c.i, c.j, &pair_of_contact_));
       pair_of_pipe_.resize(pipes);
+      const DomainWalls& walls = s.net.domains.walls;
       for (std::size_t p = 0; p < pipes; ++p) {
         const std::int32_t contact = pipe_contact[p];
-        pair_of_pipe_[p] =
-            contact < 0 ? kNoContact : pair_of_contact_[static_cast<std::size_t>(contact)];
+        if (contact < 0) {
+          pair_of_pipe_[p] = kNoContact;
+        } else if (walls.IsWallEdge(contact)) {
+          pair_of_pipe_[p] = kWallFoot;  // a particle-wall contact (stretches carry no pipe here)
+        } else {
+          pair_of_pipe_[p] = pair_of_contact_[static_cast<std::size_t>(contact)];
+        }
       }
       pair_version_ = dem.pair_table_version();
     }
@@ -137,7 +203,7 @@ class ApertureUpdateEffect final : public Effect {
       }
       force_[p] = 0.0;
       gap_[p] = 0.0;
-      if (k == kNoContact) continue;  // the updater keeps this pipe's aperture
+      if (k == kNoContact || k == kWallFoot) continue;  // kept, or FootForcesAndGaps
       const auto m = static_cast<std::size_t>(pipe_contact[p]);
       const auto i = static_cast<std::size_t>(c.i[m]);
       const auto j = static_cast<std::size_t>(c.j[m]);
@@ -146,6 +212,7 @@ class ApertureUpdateEffect final : public Effect {
       const double dy = y[j] - y[i];
       gap_[p] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
     }
+    if (!s.net.domains.walls.empty()) FootForcesAndGaps(s);
     ++s.counters.aperture_updates;
     return updater_->UpdatePerPipe(s.net.flow, force_, gap_).status();
   }
@@ -153,11 +220,49 @@ class ApertureUpdateEffect final : public Effect {
  private:
   static constexpr std::uint64_t kNoPairTable = ~std::uint64_t{0};
   static constexpr std::int32_t kNoContact = -2;  // a pipe that stands for no contact
+  static constexpr std::int32_t kWallFoot = -3;   // a pipe across a particle-wall contact
+
+  // Foot pipes: the gap from the particle and the wall now (the DEM's formula), the compressive
+  // force of the DEM's wall contact (0 when it is not listed or open).
+  void FootForcesAndGaps(const LiveState& s) {
+    s.contacts->CollectFlowWallContacts(std::numeric_limits<double>::infinity(), s.particles,
+                                        &wall_contacts_, &wall_force_);
+    const DomainWalls& walls = s.net.domains.walls;
+    const std::span<const std::int32_t> pipe_contact = s.net.pipe_contact;
+    for (std::size_t p = 0; p < pipe_contact.size(); ++p) {
+      if (pair_of_pipe_[p] != kWallFoot) continue;
+      const std::size_t e = walls.Edge(pipe_contact[p]);
+      const std::int32_t particle = walls.edge_particle[e];
+      const std::int32_t w = walls.edge_wall[e];
+      const auto i = static_cast<std::size_t>(particle);
+      const DemWall& wall = s.walls[static_cast<std::size_t>(w)];
+      gap_[p] = (s.particles.x[i] - wall.px) * wall.nx + (s.particles.y[i] - wall.py) * wall.ny -
+                s.particles.radius[i];
+      // The list is sorted by (particle, wall).
+      std::size_t lo = 0, hi = wall_contacts_.size();
+      while (lo < hi) {
+        const std::size_t mid = (lo + hi) / 2;
+        const bool before =
+            wall_contacts_.particle[mid] < particle ||
+            (wall_contacts_.particle[mid] == particle && wall_contacts_.wall[mid] < w);
+        if (before) {
+          lo = mid + 1;
+        } else {
+          hi = mid;
+        }
+      }
+      const bool listed = lo < wall_contacts_.size() && wall_contacts_.particle[lo] == particle &&
+                          wall_contacts_.wall[lo] == w;
+      force_[p] = listed ? std::max(wall_force_[lo], 0.0) : 0.0;
+    }
+  }
   std::optional<ContactApertureUpdater> updater_;
   std::uint64_t pair_version_ = kNoPairTable;
   std::vector<std::int32_t> pair_of_contact_;  // DEM pair per network contact, or -1
   std::vector<std::int32_t> pair_of_pipe_;     // DEM pair per pipe, -1 unlisted, kNoContact
   std::vector<double> force_, gap_;            // per pipe
+  WallContactList wall_contacts_;              // the DEM's wall contacts at this flow update
+  std::vector<double> wall_force_;             // and their normal forces
 };
 
 }  // namespace
@@ -178,6 +283,8 @@ double FluidStableStep(const LiveState& s, double safety) {
   const DemParticles& p = s.particles;
   const StorageModel& storage = s.storage;
   const double bulk = s.scene->fluid.bulk_modulus_pa;
+  FluidVertices vertices;
+  const ParticleView at = vertices.Current(s);
   std::vector<double> stiffness(p.size(), 0.0);
   for (std::size_t domain = 0; domain < d.num_domains(); ++domain) {
     if (s.net.flow.role()[domain] == DomainRole::kFixedPressure) continue;
@@ -190,7 +297,8 @@ double FluidStableStep(const LiveState& s, double safety) {
       const auto prev = static_cast<std::size_t>(d.loop_particles[begin + (k + n - 1) % n]);
       const auto self = static_cast<std::size_t>(d.loop_particles[begin + k]);
       const auto next = static_cast<std::size_t>(d.loop_particles[begin + (k + 1) % n]);
-      const double chord = 0.5 * std::hypot(p.x[next] - p.x[prev], p.y[next] - p.y[prev]);
+      if (self >= p.size()) continue;  // a wall vertex: walls do not integrate
+      const double chord = 0.5 * std::hypot(at.x[next] - at.x[prev], at.y[next] - at.y[prev]);
       stiffness[self] += bulk * chord * chord / volume;
     }
   }

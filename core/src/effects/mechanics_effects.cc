@@ -10,6 +10,7 @@
 #include "seep/core/dem/dem_integrator.h"
 #include "seep/core/dem/servo_wall.h"
 #include "seep/core/effects/effect_set.h"
+#include "seep/core/network/scene_walls.h"
 
 namespace seep::core::effects_internal {
 namespace {
@@ -115,71 +116,56 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   // Each wall touches the outermost disk surface of its side of the packing's bounding box.
   Status Bind(LiveState& s, const EffectSet&) override {
     const DemParticles& p = s.particles;
-    double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x;
-    double hi_x = -lo_x, hi_y = -lo_x;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      lo_x = std::min(lo_x, p.x[i] - p.radius[i]);
-      hi_x = std::max(hi_x, p.x[i] + p.radius[i]);
-      lo_y = std::min(lo_y, p.y[i] - p.radius[i]);
-      hi_y = std::max(hi_y, p.y[i] + p.radius[i]);
-    }
+    SEEP_ASSIGN_OR_RETURN(const std::vector<PlacedWall> placed,
+                          PlaceWalls(spec_, p.x, p.y, p.radius));
     s.walls.clear();
     servo_.clear();
-    for (const WallSpec& w : spec_.walls) {
-      Result<DemWall> wall = Status::Ok();
-      double length = 0.0;
-      switch (w.side) {
-        case WallSide::kLeft:
-          wall = MakeWall(lo_x, lo_y, 1.0, 0.0);
-          length = hi_y - lo_y;
-          break;
-        case WallSide::kRight:
-          wall = MakeWall(hi_x, lo_y, -1.0, 0.0);
-          length = hi_y - lo_y;
-          break;
-        case WallSide::kBottom:
-          wall = MakeWall(lo_x, lo_y, 0.0, 1.0);
-          length = hi_x - lo_x;
-          break;
-        case WallSide::kTop:
-          wall = MakeWall(lo_x, hi_y, 0.0, -1.0);
-          length = hi_x - lo_x;
-          break;
-      }
-      SEEP_RETURN_IF_ERROR(wall.status());
-      s.walls.push_back(*wall);
+    for (std::size_t w = 0; w < placed.size(); ++w) {
+      s.walls.push_back(placed[w].wall);
       ServoWallSettings servo;
-      servo.target_stress = w.servo_stress_pa;
-      servo.length = length;
-      servo.gain_fraction = w.servo_gain_fraction;
-      servo.max_speed = w.servo_max_speed_m_s;
+      servo.target_stress = spec_.walls[w].servo_stress_pa;
+      servo.length = placed[w].length;
+      servo.gain_fraction = spec_.walls[w].servo_gain_fraction;
+      servo.max_speed = spec_.walls[w].servo_max_speed_m_s;
       servo_.push_back(servo);
     }
     wall_stress_pa_.assign(s.walls.size(), 0.0);
+    effective_stress_pa_.assign(s.walls.size(), 0.0);
     return Status::Ok();
   }
 
+  // The servo holds the total stress (contacts + the pore pressure of the domains the wall
+  // closes, with their fluid stiffness in its gain) unless the wall asks for the effective one.
   Status PostForce(LiveState& s, const StepInfo& info) override {
     const std::vector<DemWallLoad>& loads = s.contacts->wall_loads();
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
-      wall_stress_pa_[w] = loads[w].normal_force / servo_[w].length;
+      DemWallLoad load = loads[w];
+      const double pore = w < s.wall_pore_force.size() ? s.wall_pore_force[w] : 0.0;
+      effective_stress_pa_[w] = load.normal_force / servo_[w].length;
+      wall_stress_pa_[w] = (load.normal_force + pore) / servo_[w].length;
       if (servo_[w].target_stress > 0.0) {
-        ApplyServo(servo_[w], loads[w], info.dt, &s.walls[w], &s.counters.dem);
+        if (!spec_.walls[w].servo_effective_stress) {
+          load.normal_force += pore;
+          if (w < s.wall_fluid_stiffness.size()) load.stiffness_sum += s.wall_fluid_stiffness[w];
+        }
+        ApplyServo(servo_[w], load, info.dt, &s.walls[w], &s.counters.dem);
       }
     }
     return Status::Ok();
   }
 
-  // Per wall, the position along its normal and the measured normal stress at the last step.
+  // Per wall, the position along its normal and the measured normal stresses at the last step:
+  // total (contacts + pore pressure) and effective (contacts alone).
   void AddMetrics(const LiveState& s, Metrics* m) const override {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
       const char* side = SideName(spec_.walls[w].side);
       (*m)[fmt::format("{}_wall_position_m", side)] = Position(s, w);
       (*m)[fmt::format("{}_wall_stress_pa", side)] = wall_stress_pa_[w];
+      (*m)[fmt::format("{}_wall_effective_stress_pa", side)] = effective_stress_pa_[w];
     }
   }
   void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
-    for (const char* column : {"position_m", "stress_pa"}) {
+    for (const char* column : {"position_m", "stress_pa", "effective_stress_pa"}) {
       for (const WallSpec& w : spec_.walls) {
         columns->push_back(fmt::format("{}_wall_{}", SideName(w.side), column));
       }
@@ -188,6 +174,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   void AddSample(const LiveState& s, std::vector<double>* row) const override {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) row->push_back(Position(s, w));
     row->insert(row->end(), wall_stress_pa_.begin(), wall_stress_pa_.end());
+    row->insert(row->end(), effective_stress_pa_.begin(), effective_stress_pa_.end());
   }
 
  private:
@@ -211,7 +198,8 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   }
 
   std::vector<ServoWallSettings> servo_;
-  std::vector<double> wall_stress_pa_;  // measured normal stress per wall at the last step
+  std::vector<double> wall_stress_pa_;       // total normal stress per wall at the last step
+  std::vector<double> effective_stress_pa_;  // its contacts' part
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "seep/core/effects/effect_set.h"
 #include "seep/core/log.h"
 #include "seep/core/network/pressure_remap.h"
+#include "seep/core/network/scene_walls.h"
 
 namespace seep::core::effects_internal {
 namespace {
@@ -31,13 +32,21 @@ class RedetectionEffect final : public Effect {
     ++s.counters.topology_checks;
     const double max_gap = SceneContactGap(*s.scene, s.net.mean_radius_m);
     s.contacts->CollectFlowContacts(max_gap, &candidate_);
-    if (SamePairs(candidate_, s.net.contacts)) return Status::Ok();
+    const bool walls = !s.net.walls.empty();
+    if (walls) s.contacts->CollectFlowWallContacts(max_gap, s.particles, &wall_candidate_);
+    const bool same_walls = !walls || (wall_candidate_.particle == s.net.wall_contacts.particle &&
+                                       wall_candidate_.wall == s.net.wall_contacts.wall);
+    if (SamePairs(candidate_, s.net.contacts) && same_walls) return Status::Ok();
 
     SceneNetwork next;
     next.packing = s.net.packing;
     std::copy(s.particles.x.begin(), s.particles.x.end(), next.packing.x.begin());
     std::copy(s.particles.y.begin(), s.particles.y.end(), next.packing.y.begin());
     next.contacts = candidate_;
+    if (walls) {
+      next.walls = WallLines(s.walls);
+      next.wall_contacts = wall_candidate_;
+    }
     next.mean_radius_m = s.net.mean_radius_m;
     next.well_x_m = s.net.well_x_m;
     next.well_y_m = s.net.well_y_m;
@@ -80,11 +89,12 @@ class RedetectionEffect final : public Effect {
         "old, stored fluid {:.17g} -> {:.17g} (relative change {:.3g})",
         info.step, s.net.domains.num_domains(), fresh.domains.num_domains(), report.clusters,
         report.unmatched_new, report.unmatched_old, report.old_stored, report.new_stored, error);
-    if (s.scene->boundary.radial && fresh.well_domain < 0 && state_.breakthrough_time_s < 0.0) {
+    const bool through = fresh.well_domain < 0 || fresh.well_on_wall;
+    if (s.scene->boundary.radial && through && state_.breakthrough_time_s < 0.0) {
       state_.breakthrough_time_s = info.time_s;
       Logger()->info(
-          "step {} (t = {} s): the fracture reached the outer boundary; the well is open to the "
-          "outside from now on",
+          "step {} (t = {} s): the fracture reached the outer boundary; the well is open to it "
+          "from now on",
           info.step, info.time_s);
     }
     s.net = std::move(fresh);
@@ -102,6 +112,7 @@ class RedetectionEffect final : public Effect {
 
  private:
   ContactList candidate_;
+  WallContactList wall_candidate_;
   bool injected_well_ = false;  // the well is a source (injection): it takes the remapped pressure
   RedetectionEffectState state_;
 };

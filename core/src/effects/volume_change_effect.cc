@@ -7,19 +7,10 @@
 #include "seep/core/log.h"
 
 namespace seep::core {
-namespace {
-
-ParticleView CurrentView(const LiveState& s) {
-  return ParticleView{s.particles.x, s.particles.y, s.particles.radius};
-}
-
-}  // namespace
-
 Status VolumeChangeEffect::Bind(LiveState& s, const EffectSet&) { return Rebind(s); }
 
 Status VolumeChangeEffect::Rebind(LiveState& s) {
-  const ParticleView at_detection{s.detection_x, s.detection_y, s.particles.radius};
-  SEEP_RETURN_IF_ERROR(updater_.Bind(at_detection, s.net.domains));
+  SEEP_RETURN_IF_ERROR(updater_.Bind(vertices_.AtDetection(s), s.net.domains));
   const std::size_t n = s.net.domains.num_domains();
   apparent_.assign(n, 0.0);
   pore_.assign(n, 0.0);
@@ -37,9 +28,9 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
   const bool pore = s.storage.volume == StorageVolume::kPore;
   if (pore) {
-    SEEP_RETURN_IF_ERROR(updater_.Compute(CurrentView(s), s.net.domains, apparent_, pore_));
+    SEEP_RETURN_IF_ERROR(updater_.Compute(vertices_.Current(s), s.net.domains, apparent_, pore_));
   } else {
-    SEEP_RETURN_IF_ERROR(updater_.ComputeApparent(CurrentView(s), s.net.domains, apparent_));
+    SEEP_RETURN_IF_ERROR(updater_.ComputeApparent(vertices_.Current(s), s.net.domains, apparent_));
   }
   ++s.counters.volume_updates;
   const std::size_t n = apparent_.size();
@@ -84,7 +75,7 @@ std::vector<double> VolumeChangeEffect::CurrentPoreVolumes(const LiveState& s) c
   if (s.storage.volume == StorageVolume::kPore || !s.has_network) return out;
   const std::size_t n = s.net.domains.num_domains();
   std::vector<double> apparent(n), pore(n);
-  const Status status = updater_.Compute(CurrentView(s), s.net.domains, apparent, pore);
+  const Status status = updater_.Compute(vertices_.Current(s), s.net.domains, apparent, pore);
   if (!status.ok()) {
     // The updater is bound to this network by construction; keep the stored V_p and say so.
     Logger()->error("coupling: snapshot keeps the detected pore volumes: {}", status.message());

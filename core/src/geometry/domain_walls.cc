@@ -24,6 +24,15 @@ double Along(const WallLine& w, double x, double y) {
   return (x - w.px) * w.ny - (y - w.py) * w.nx;
 }
 
+// The corner of two wall lines: n_a . q = n_a . p_a and n_b . q = n_b . p_b (Cramer's rule).
+void Corner(const WallLine& a, const WallLine& b, double* x, double* y) {
+  const double ca = a.nx * a.px + a.ny * a.py;
+  const double cb = b.nx * b.px + b.ny * b.py;
+  const double det = a.nx * b.ny - a.ny * b.nx;
+  *x = (ca * b.ny - cb * a.ny) / det;
+  *y = (a.nx * cb - b.nx * ca) / det;
+}
+
 struct Foot {
   double along;  // clamped onto the segment
   bool clamped;
@@ -40,7 +49,7 @@ void WallContactList::Clear() {
 }
 
 void DomainWalls::Clear() {
-  num_particles = num_contacts = 0;
+  num_particles = num_contacts = std::numeric_limits<std::int32_t>::max();
   vertex_wall.clear();
   vertex_other_wall.clear();
   vertex_particle.clear();
@@ -66,7 +75,7 @@ WallContactList FindWallContacts(const Packing& packing, std::span<const WallLin
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const double height = Height(walls[w], packing.x[i], packing.y[i]);
       const double gap = height - packing.radius[i];
-      if (!(gap <= max_gap) || !(height > 0.0)) continue;
+      if (!(gap <= max_gap) || !(gap > -packing.radius[i])) continue;
       out.particle.push_back(static_cast<std::int32_t>(i));
       out.wall.push_back(static_cast<std::int32_t>(w));
       out.gap.push_back(gap);
@@ -225,6 +234,15 @@ Status BuildWallGraph(const Packing& packing, const ContactList& contacts,
     point(segment.end, &x, &y);
     add_edge(wall, -1, previous, end_vertex(wall, x, y), segment.end - previous_along);
   }
+  // Corners where WallVertexPositions puts them, so the detected positions reproduce it exactly.
+  for (std::size_t v = 0; v < dw.num_vertices(); ++v) {
+    if (dw.vertex_other_wall[v] < 0) continue;
+    Corner(walls[static_cast<std::size_t>(dw.vertex_wall[v])].line,
+           walls[static_cast<std::size_t>(dw.vertex_other_wall[v])].line, &dw.vertex_x[v],
+           &dw.vertex_y[v]);
+    graph_packing->x[n + v] = dw.vertex_x[v];
+    graph_packing->y[n + v] = dw.vertex_y[v];
+  }
   return Status::Ok();
 }
 
@@ -247,13 +265,7 @@ void WallVertexPositions(const DomainWalls& walls, std::span<const double> x,
       vertex_y[v] = walls.vertex_y[v];
       continue;
     }
-    // n_a . q = n_a . p_a and n_b . q = n_b . p_b (Cramer's rule).
-    const WallLine& b = lines[static_cast<std::size_t>(other)];
-    const double ca = a.nx * a.px + a.ny * a.py;
-    const double cb = b.nx * b.px + b.ny * b.py;
-    const double det = a.nx * b.ny - a.ny * b.nx;
-    vertex_x[v] = (ca * b.ny - cb * a.ny) / det;
-    vertex_y[v] = (a.nx * cb - b.nx * ca) / det;
+    Corner(a, lines[static_cast<std::size_t>(other)], &vertex_x[v], &vertex_y[v]);
   }
 }
 

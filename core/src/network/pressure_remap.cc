@@ -7,22 +7,36 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <tuple>
 #include <utility>
 
 namespace seep::core {
 namespace {
 
-using HalfEdge = std::pair<std::int32_t, std::int32_t>;
+// A loop vertex by what it is, not by its id, so that two detections agree: a particle is
+// (-1, particle, -1); a wall vertex, whose id depends on what else touches the walls, is
+// (wall, particle, -1) for a foot and (wall, -1, other wall) for a corner (domain_walls.h).
+using Vertex = std::tuple<std::int32_t, std::int32_t, std::int32_t>;
+using HalfEdge = std::pair<Vertex, Vertex>;
+
+Vertex VertexOf(const DomainNetwork& d, std::int32_t id) {
+  const DomainWalls& walls = d.walls;
+  if (!walls.IsWallVertex(id)) return {-1, id, -1};
+  const auto v = static_cast<std::size_t>(id - walls.num_particles);
+  return {walls.vertex_wall[v], walls.vertex_particle[v], walls.vertex_other_wall[v]};
+}
+
+std::pair<Vertex, Vertex> Unordered(const Vertex& a, const Vertex& b) { return std::minmax(a, b); }
 
 // Half-edge -> the domain on its left: every domain loop (CCW), and the outer loops of islands
 // (clockwise, host domain on the left). Top-level outer loops border the outside: left out.
 std::map<HalfEdge, std::int32_t> LeftFaces(const DomainNetwork& d) {
   std::map<HalfEdge, std::int32_t> left;
-  auto add_loop = [&left](const std::vector<std::int32_t>& particles, std::size_t begin,
-                          std::size_t end, std::int32_t face) {
+  auto add_loop = [&left, &d](const std::vector<std::int32_t>& particles, std::size_t begin,
+                              std::size_t end, std::int32_t face) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
-      left.emplace(HalfEdge{particles[k], next}, face);
+      left.emplace(HalfEdge{VertexOf(d, particles[k]), VertexOf(d, next)}, face);
     }
   };
   for (std::size_t dom = 0; dom < d.num_domains(); ++dom) {
@@ -105,22 +119,23 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
   // A loop contact of the old network that bounds no loop of the new one (lost, or left dangling)
   // joins the two old faces beside it: they are one face now. This also catches a domain whose
   // every loop contact broke at once, which no surviving half-edge would match.
-  std::set<HalfEdge> new_edges;  // unordered: (smaller id, larger id)
-  const auto add_edges = [&new_edges](const std::vector<std::int32_t>& particles,
-                                      const std::vector<std::int32_t>& offsets) {
+  std::set<HalfEdge> new_edges;  // unordered: (smaller vertex, larger vertex)
+  const auto add_edges = [&new_edges, &new_network](const std::vector<std::int32_t>& particles,
+                                                    const std::vector<std::int32_t>& offsets) {
     for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
       const auto begin = static_cast<std::size_t>(offsets[f]);
       const auto end = static_cast<std::size_t>(offsets[f + 1]);
       for (std::size_t k = begin; k < end; ++k) {
         const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
-        new_edges.insert(std::minmax(particles[k], next));
+        new_edges.insert(
+            Unordered(VertexOf(new_network, particles[k]), VertexOf(new_network, next)));
       }
     }
   };
   add_edges(new_network.loop_particles, new_network.loop_offsets);
   add_edges(new_network.outer_particles, new_network.outer_offsets);
   for (const auto& [edge, face] : old_left) {
-    if (new_edges.count(std::minmax(edge.first, edge.second)) != 0) continue;
+    if (new_edges.count(Unordered(edge.first, edge.second)) != 0) continue;
     const auto twin = old_left.find(HalfEdge{edge.second, edge.first});
     if (twin == old_left.end()) continue;  // the outside was beside it: that face opened
     const std::int32_t a = Find(parent, face);

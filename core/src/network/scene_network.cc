@@ -8,6 +8,7 @@
 
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/geometry/random_packing.h"
+#include "seep/core/network/scene_walls.h"
 
 namespace seep::core {
 namespace {
@@ -101,21 +102,76 @@ Status CutAnnulus(const RadialBoundarySpec& radial, SceneNetwork& net) {
   return Status::Ok();
 }
 
-// Crossing-number test of a point against domain d's loop of particle centres.
+// A loop vertex's position at detection: a particle's centre or a wall vertex.
+void LoopVertex(const Packing& p, const DomainNetwork& d, std::int32_t id, double* x, double* y) {
+  if (d.walls.IsWallVertex(id)) {
+    const auto v = static_cast<std::size_t>(id - d.walls.num_particles);
+    *x = d.walls.vertex_x[v];
+    *y = d.walls.vertex_y[v];
+    return;
+  }
+  *x = p.x[static_cast<std::size_t>(id)];
+  *y = p.y[static_cast<std::size_t>(id)];
+}
+
+// Crossing-number test of a point against domain d's loop of particle centres (and wall vertices).
 bool LoopContains(const Packing& p, const DomainNetwork& d, std::size_t domain, double x,
                   double y) {
   bool inside = false;
   const auto begin = static_cast<std::size_t>(d.loop_offsets[domain]);
   const auto end = static_cast<std::size_t>(d.loop_offsets[domain + 1]);
   for (std::size_t k = begin; k < end; ++k) {
-    const auto i = static_cast<std::size_t>(d.loop_particles[k]);
-    const auto j = static_cast<std::size_t>(d.loop_particles[k + 1 < end ? k + 1 : begin]);
-    if ((p.y[i] > y) != (p.y[j] > y) &&
-        x < p.x[i] + (y - p.y[i]) * (p.x[j] - p.x[i]) / (p.y[j] - p.y[i])) {
-      inside = !inside;
-    }
+    double xi = 0.0, yi = 0.0, xj = 0.0, yj = 0.0;
+    LoopVertex(p, d, d.loop_particles[k], &xi, &yi);
+    LoopVertex(p, d, d.loop_particles[k + 1 < end ? k + 1 : begin], &xj, &yj);
+    if ((yi > y) != (yj > y) && x < xi + (y - yi) * (xj - xi) / (yj - yi)) inside = !inside;
   }
   return inside;
+}
+
+// Whether boundary pipe k of the detection lies on a wall (a stretch, or a foot facing an open
+// side): the walls decide its flow, not the linear or radial rules.
+bool OnWall(const DomainNetwork& d, std::size_t k) {
+  return d.walls.IsWallEdge(d.boundary_pipe_contact[k]);
+}
+
+// The reservoir nodes of the drained walls (after the nodes already in `data`) and the pipes of
+// their stretches. A stretch pipe keeps the scene's conductance C = c_drain x its length: it is
+// stored as the aperture a0 of the scene's law over the length a0^3 / (12 mu C), so that every
+// re-evaluation of the cubic law (a restore, SetApertures) gives the same C; its pipe_contact is
+// -1 so no aperture update touches it.
+void AddDrainedWalls(const SceneSpec& scene, SceneNetwork& net, FlowNetworkData& data,
+                     std::vector<double>& gaps) {
+  const DomainNetwork& d = net.domains;
+  const auto* walls = FindEffect<WallsEffectSpec>(scene);
+  net.wall_node.assign(net.walls.size(), -1);
+  if (walls == nullptr) return;
+  for (std::size_t w = 0; w < net.walls.size(); ++w) {
+    const auto& drain = walls->walls[w].drain;
+    if (!drain) continue;
+    net.wall_node[w] = static_cast<std::int32_t>(data.pressure.size());
+    data.apparent_volume.push_back(0.0);
+    data.pore_volume.push_back(0.0);
+    data.pressure.push_back(drain->pressure_pa);
+    data.role.push_back(DomainRole::kFixedPressure);
+    data.source_rate.push_back(0.0);
+  }
+  const double a0 = scene.aperture.residual_aperture_m;
+  for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
+    if (!OnWall(d, k)) continue;
+    const std::size_t e = d.walls.Edge(d.boundary_pipe_contact[k]);
+    if (d.walls.edge_particle[e] >= 0) continue;  // a foot facing an open side: no flow
+    const auto wall = static_cast<std::size_t>(d.walls.edge_wall[e]);
+    if (net.wall_node[wall] < 0) continue;  // impermeable
+    const double conductance =
+        walls->walls[wall].drain->conductance_m_per_pa_s * d.walls.edge_gap[e];
+    if (!(conductance > 0.0)) continue;  // a stretch of zero length
+    data.pipe_domain_a.push_back(d.boundary_pipe_domain[k]);
+    data.pipe_domain_b.push_back(net.wall_node[wall]);
+    data.pipe_length.push_back(a0 * a0 * a0 / (12.0 * scene.fluid.viscosity_pa_s * conductance));
+    gaps.push_back(0.0);
+    net.pipe_contact.push_back(-1);
+  }
 }
 
 Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
@@ -162,7 +218,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
     data.pipe_domain_a.push_back(d.pipe_domain_a[k]);
     data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
     data.pipe_length.push_back(d.pipe_length[k]);
-    gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.pipe_contact[k])]);
+    gaps.push_back(DetectionContactGap(net, d.pipe_contact[k]));
     net.pipe_contact.push_back(d.pipe_contact[k]);
   }
   // Every contact of a top-level outer loop drains into the outer reservoir. The reservoir's
@@ -172,6 +228,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
   const std::size_t first_outer_pipe = data.pipe_length.size();
   for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
     if (d.outer_host_domain[static_cast<std::size_t>(d.boundary_pipe_outer_face[k])] >= 0) continue;
+    if (OnWall(d, k)) continue;
     const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
     data.pipe_domain_a.push_back(d.boundary_pipe_domain[k]);
     data.pipe_domain_b.push_back(net.outer_node);
@@ -183,11 +240,12 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
                    2.0 * d.boundary_pipe_y[k] - d.centroid_y[host] - net.well_y_m));
     ++net.outer_pipes;
   }
-  if (net.outer_pipes == 0) {
+  if (net.outer_pipes == 0 && net.walls.empty()) {
     return FailedPrecondition(
         "scene.boundary.radial.outer_radius_m: the cut sample has no hull contact to connect to "
         "the outer reservoir");
   }
+  AddDrainedWalls(scene, net, data, gaps);
   SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
   double weighted = 0.0;
   double weight = 0.0;
@@ -197,6 +255,9 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
     weight += c;
   }
   net.outer_reservoir_radius_m = weight > 0.0 ? weighted / weight : 0.0;
+  for (std::size_t k = 0; k < d.num_boundary_pipes() && net.well_domain >= 0; ++k) {
+    if (OnWall(d, k) && d.boundary_pipe_domain[k] == net.well_domain) net.well_on_wall = true;
+  }
   SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
   return Status::Ok();
 }
@@ -234,6 +295,12 @@ ApertureLaw SceneApertureLaw(const SceneSpec& scene) {
   return law;
 }
 
+double DetectionContactGap(const SceneNetwork& net, std::int32_t contact) {
+  const DomainWalls& walls = net.domains.walls;
+  if (walls.IsWallEdge(contact)) return walls.edge_gap[walls.Edge(contact)];
+  return net.contacts.gap[static_cast<std::size_t>(contact)];
+}
+
 double SceneContactGap(const SceneSpec& scene, double mean_radius_m) {
   return scene.packing.contact_gap_m + kRelativeContactTolerance * mean_radius_m;
 }
@@ -247,8 +314,16 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   for (double r : p.radius) radius_sum += r;
   net.mean_radius_m = radius_sum / static_cast<double>(p.size());
   ContactDetector contact_detector;
-  SEEP_RETURN_IF_ERROR(
-      contact_detector.Detect(p, SceneContactGap(scene, net.mean_radius_m), &net.contacts));
+  const double max_gap = SceneContactGap(scene, net.mean_radius_m);
+  SEEP_RETURN_IF_ERROR(contact_detector.Detect(p, max_gap, &net.contacts));
+  if (const auto* walls = FindEffect<WallsEffectSpec>(scene)) {
+    SEEP_ASSIGN_OR_RETURN(const std::vector<PlacedWall> placed,
+                          PlaceWalls(*walls, p.x, p.y, p.radius));
+    for (const PlacedWall& w : placed) {
+      net.walls.push_back({w.wall.px, w.wall.py, w.wall.nx, w.wall.ny});
+    }
+    net.wall_contacts = FindWallContacts(p, net.walls, max_gap);
+  }
   return ConnectSceneNetwork(scene, std::move(net));
 }
 
@@ -259,11 +334,22 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   net.reservoir_pipes.clear();
   net.inlet_node = net.outlet_node = net.well_domain = net.outer_node = -1;
   net.inlet_pipes = net.outlet_pipes = net.outer_pipes = 0;
+  net.wall_node.clear();
+  net.well_on_wall = false;
   const Packing& p = net.packing;
   const std::size_t n = p.size();
   const double max_gap = SceneContactGap(scene, net.mean_radius_m);
   DomainDetector domain_detector;
-  SEEP_RETURN_IF_ERROR(domain_detector.Detect(p, net.contacts, {max_gap}, &net.domains));
+  if (net.walls.empty()) {
+    SEEP_RETURN_IF_ERROR(domain_detector.Detect(p, net.contacts, {max_gap}, &net.domains));
+  } else {
+    const std::vector<DetectionWall> segments = ClipWalls(p, net.walls);
+    const Status detected = domain_detector.Detect(p, net.contacts, segments, net.wall_contacts,
+                                                   {max_gap}, &net.domains);
+    if (!detected.ok()) {
+      return Status(detected.code(), "scene.effects.walls: " + detected.message());
+    }
+  }
   const DomainNetwork& d = net.domains;
   const std::size_t num_domains = d.num_domains();
   if (num_domains == 0) {
@@ -273,6 +359,26 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   }
   if (scene.boundary.radial) {
     SEEP_RETURN_IF_ERROR(ConnectRadialBoundary(scene, net));
+    return net;
+  }
+  if (scene.boundary.walls_only) {
+    FlowNetworkData data;
+    data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
+    data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
+    data.pressure.assign(num_domains, scene.boundary.initial_pressure_pa);
+    data.role.assign(num_domains, DomainRole::kFree);
+    data.source_rate.assign(num_domains, 0.0);
+    std::vector<double> gaps;
+    for (std::size_t k = 0; k < d.num_pipes(); ++k) {
+      data.pipe_domain_a.push_back(d.pipe_domain_a[k]);
+      data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
+      data.pipe_length.push_back(d.pipe_length[k]);
+      gaps.push_back(DetectionContactGap(net, d.pipe_contact[k]));
+      net.pipe_contact.push_back(d.pipe_contact[k]);
+    }
+    AddDrainedWalls(scene, net, data, gaps);
+    SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
+    SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
     return net;
   }
 
@@ -308,7 +414,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
     data.pipe_domain_a.push_back(a);
     data.pipe_domain_b.push_back(b);
     data.pipe_length.push_back(length);
-    gaps.push_back(net.contacts.gap[static_cast<std::size_t>(contact)]);
+    gaps.push_back(DetectionContactGap(net, contact));
     net.pipe_contact.push_back(contact);
   };
   for (std::size_t k = 0; k < d.num_pipes(); ++k) {
@@ -318,6 +424,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   const double layer = net.mean_radius_m * (1.0 + 1e-9);
   for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
     if (d.outer_host_domain[static_cast<std::size_t>(d.boundary_pipe_outer_face[k])] >= 0) continue;
+    if (OnWall(d, k)) continue;
     const auto c = static_cast<std::size_t>(d.boundary_pipe_contact[k]);
     const auto i = static_cast<std::size_t>(net.contacts.i[c]);
     const auto j = static_cast<std::size_t>(net.contacts.j[c]);
@@ -339,10 +446,14 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   if ((net.inlet_pipes == 0 && !scene.boundary.closed_inlet) || net.outlet_pipes == 0) {
     return FailedPrecondition(fmt::format(
         "scene.boundary.axis: the sample has {} inlet and {} outlet pipes; both ends need hull "
-        "contacts in their edge layer (is the packing connected from end to end?)",
-        net.inlet_pipes, net.outlet_pipes));
+        "contacts in their edge layer (is the packing connected from end to end?{})",
+        net.inlet_pipes, net.outlet_pipes,
+        net.walls.empty() ? ""
+                          : " A wall across an end closes it: drain that wall, or leave "
+                            "boundary.axis unset so that the walls bound the fluid"));
   }
 
+  AddDrainedWalls(scene, net, data, gaps);
   SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
 
   // Darcy geometry (see the header): conductance-weighted reservoir positions, plain-mean faces.

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <string>
 
+#include "seep/core/network/scene_walls.h"
 #include "seep/core/reference/analytic_solutions.h"
 
 namespace seep::core {
@@ -176,6 +177,13 @@ SceneFields CollectSceneFields(const Simulation& sim) {
   f.domain_pore_volume.assign(pore.begin(), pore.begin() + static_cast<std::ptrdiff_t>(domains));
   f.domain_loop_offsets = d.loop_offsets;
   f.domain_loop_particles = d.loop_particles;
+  if (!d.walls.empty()) {
+    f.wall_vertex_x.resize(d.walls.num_vertices());
+    f.wall_vertex_y.resize(d.walls.num_vertices());
+    const std::vector<WallLine> lines =
+        sim.stepper().state().walls.empty() ? net.walls : WallLines(sim.stepper().state().walls);
+    WallVertexPositions(d.walls, packing.x, packing.y, lines, f.wall_vertex_x, f.wall_vertex_y);
+  }
 
   const std::size_t pipes = flow.num_pipes();
   f.pipe_domain_a.resize(pipes);
@@ -195,16 +203,36 @@ SceneFields CollectSceneFields(const Simulation& sim) {
     const auto ua = static_cast<std::size_t>(a);
     const auto ub = static_cast<std::size_t>(b);
     f.pipe_flow[p] = flow.pipe_conductance()[p] * (flow.pressure()[ub] - flow.pressure()[ua]);
-    const auto c = static_cast<std::size_t>(net.pipe_contact[p]);
-    f.pipe_particle_i[p] = net.contacts.i[c];
-    f.pipe_particle_j[p] = net.contacts.j[c];
+    const std::int32_t contact = net.pipe_contact[p];
+    const auto c = static_cast<std::size_t>(contact);
+    const bool through_wall = contact < 0;
+    const bool on_wall = !through_wall && d.walls.IsWallEdge(contact);
+    if (through_wall) {
+      const auto wall = std::find(net.wall_node.begin(), net.wall_node.end(), b);
+      f.pipe_particle_i[p] = -1;
+      f.pipe_particle_j[p] = -1 - static_cast<std::int32_t>(wall - net.wall_node.begin());
+    } else if (on_wall) {
+      const std::size_t e = d.walls.Edge(contact);
+      f.pipe_particle_i[p] = d.walls.edge_particle[e];
+      f.pipe_particle_j[p] = -1 - d.walls.edge_wall[e];
+    } else {
+      f.pipe_particle_i[p] = net.contacts.i[c];
+      f.pipe_particle_j[p] = net.contacts.j[c];
+    }
     // A reservoir node is past the domains; the flow network puts the interior domain first.
     const bool to_reservoir = ub >= domains;
     f.pipe_domain_a[p] = a;
     f.pipe_domain_b[p] = to_reservoir ? -1 : b;
     f.pipe_x0[p] = ua < domains ? d.centroid_x[ua] : 0.0;
     f.pipe_y0[p] = ua < domains ? d.centroid_y[ua] : 0.0;
-    if (to_reservoir) {
+    if (through_wall) {
+      // The foot of domain a's centroid on the drained wall.
+      const auto w = static_cast<std::size_t>(-1 - f.pipe_particle_j[p]);
+      const WallLine& line = net.walls[w];
+      const double h = (f.pipe_x0[p] - line.px) * line.nx + (f.pipe_y0[p] - line.py) * line.ny;
+      f.pipe_x1[p] = f.pipe_x0[p] - h * line.nx;
+      f.pipe_y1[p] = f.pipe_y0[p] - h * line.ny;
+    } else if (to_reservoir) {
       ContactPoint(packing, net.contacts, c, &f.pipe_x1[p], &f.pipe_y1[p]);
     } else {
       f.pipe_x1[p] = d.centroid_x[ub];

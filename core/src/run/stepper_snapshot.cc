@@ -100,6 +100,12 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
   out->detection_i = s.net.contacts.i;
   out->detection_j = s.net.contacts.j;
   out->detection_gap = s.net.contacts.gap;
+  for (const WallLine& w : s.net.walls) {
+    out->detection_walls.insert(out->detection_walls.end(), {w.px, w.py, w.nx, w.ny});
+  }
+  out->detection_wall_particle = s.net.wall_contacts.particle;
+  out->detection_wall_wall = s.net.wall_contacts.wall;
+  out->detection_wall_gap = s.net.wall_contacts.gap;
   if (s.has_network) {
     const auto apparent = s.net.flow.apparent_volume();
     const auto aperture = s.net.flow.pipe_aperture();
@@ -171,6 +177,21 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
     net.contacts.i = snap.detection_i;
     net.contacts.j = snap.detection_j;
     net.contacts.gap = snap.detection_gap;
+    SEEP_RETURN_IF_ERROR(
+        CheckLength("detection_walls", snap.detection_walls.size(), 4 * s.net.walls.size()));
+    SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.detection_walls", snap.detection_walls));
+    for (std::size_t w = 0; w < s.net.walls.size(); ++w) {
+      const double* v = &snap.detection_walls[4 * w];
+      net.walls.push_back({v[0], v[1], v[2], v[3]});
+    }
+    const std::size_t wall_contacts = snap.detection_wall_particle.size();
+    SEEP_RETURN_IF_ERROR(
+        CheckLength("detection_wall_wall", snap.detection_wall_wall.size(), wall_contacts));
+    SEEP_RETURN_IF_ERROR(
+        CheckLength("detection_wall_gap", snap.detection_wall_gap.size(), wall_contacts));
+    net.wall_contacts.particle = snap.detection_wall_particle;
+    net.wall_contacts.wall = snap.detection_wall_wall;
+    net.wall_contacts.gap = snap.detection_wall_gap;
     net.mean_radius_m = s.net.mean_radius_m;
     net.well_x_m = s.net.well_x_m;
     net.well_y_m = s.net.well_y_m;

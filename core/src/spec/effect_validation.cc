@@ -90,6 +90,18 @@ struct FieldValidator {
                      fmt::format("must lie in (0, 1] (got {})", wall.servo_gain_fraction));
         }
       }
+      if (const auto& drain = wall.drain) {
+        if (!std::isfinite(drain->pressure_pa)) {
+          return Bad(
+              (field + ".drain.pressure_pa").c_str(),
+              fmt::format("a drained wall needs a finite pressure (got {})", drain->pressure_pa));
+        }
+        if (!PositiveFinite(drain->conductance_m_per_pa_s)) {
+          return Bad(
+              (field + ".drain.conductance_m_per_pa_s").c_str(),
+              fmt::format("must be a finite number > 0 (got {})", drain->conductance_m_per_pa_s));
+        }
+      }
     }
     return Status::Ok();
   }

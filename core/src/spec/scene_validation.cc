@@ -189,6 +189,17 @@ Status ValidateScene(const SceneSpec& scene) {
     return InvalidArgument(
         "scene.boundary.closed_inlet: applies to a linear boundary only (this one is radial)");
   }
+  if (scene.boundary.walls_only) {
+    if (scene.boundary.radial || scene.boundary.closed_inlet) {
+      return InvalidArgument(
+          "scene.boundary: a walls-only boundary has no radial part and no closed inlet");
+    }
+    if (FindEffect<WallsEffectSpec>(scene) == nullptr) {
+      return InvalidArgument(
+          "scene.boundary.axis: must be set (FLOW_AXIS_X or FLOW_AXIS_Y) or boundary.radial given; "
+          "only a scene with a walls effect can leave both unset (the walls then bound the fluid)");
+    }
+  }
   return ValidateEffects(scene);
 }
 

@@ -28,7 +28,10 @@ inline ContactsEffectSpec Contacts() {
 }
 
 // A hex lattice in a box of walls (top one servo-loaded), water-like fluid, explicit flow with
-// every coupling effect; tests drop or add effects from here.
+// every coupling effect; tests drop or add effects from here. The walls bound the fluid: the side
+// walls are porous platens at 20 kPa (left) and 0 (right), each stretch of them about as
+// conductive as 25 of the lattice's pipes; floor and lid are impermeable.
+inline constexpr double kPlatenConductance = 1e-5;  // m/(Pa s)
 inline SceneSpec BoxedLatticeScene(std::uint32_t columns, std::uint32_t rows) {
   SceneSpec s;
   s.name = "boxed lattice";
@@ -39,15 +42,15 @@ inline SceneSpec BoxedLatticeScene(std::uint32_t columns, std::uint32_t rows) {
   s.aperture.residual_aperture_m = 1e-5;
   s.aperture.reference_force_n = 1e3;
   s.aperture.gap_multiplier = 0.5;
-  s.boundary.axis = FlowAxis::kX;
-  s.boundary.inlet_pressure_pa = 2e4;
-  s.boundary.outlet_pressure_pa = 0.0;
+  s.boundary.walls_only = true;
   s.solver.kind = SolverKind::kExplicit;
   s.solver.dt_factor = 0.9;
   s.solver.end_time_s = 2e-3;
   WallsEffectSpec walls;
-  walls.walls = {WallSpec{WallSide::kBottom}, WallSpec{WallSide::kLeft}, WallSpec{WallSide::kRight},
-                 WallSpec{WallSide::kTop, 2e4, 0.5, 0.05}};
+  walls.walls = {SideWall(WallSide::kBottom),
+                 Drained(SideWall(WallSide::kLeft), 2e4, kPlatenConductance),
+                 Drained(SideWall(WallSide::kRight), 0.0, kPlatenConductance),
+                 SideWall(WallSide::kTop, 2e4, 0.5, 0.05)};
   s.effects = {Contacts(),
                walls,
                LocalDampingEffectSpec{0.3},
@@ -56,6 +59,16 @@ inline SceneSpec BoxedLatticeScene(std::uint32_t columns, std::uint32_t rows) {
                FluidForcesEffectSpec{},
                VolumeChangeEffectSpec{},
                ApertureUpdateEffectSpec{}};
+  return s;
+}
+
+// For a scene whose effects no longer list the walls: the same flow through open ends (a linear
+// boundary, 20 kPa at the left end, 0 at the right).
+inline SceneSpec WithOpenEnds(SceneSpec s) {
+  s.boundary.walls_only = false;
+  s.boundary.axis = FlowAxis::kX;
+  s.boundary.inlet_pressure_pa = 2e4;
+  s.boundary.outlet_pressure_pa = 0.0;
   return s;
 }
 
@@ -73,7 +86,9 @@ namespace seep::core::effects_test {
 
 // Hydraulic fracturing: a bonded hex lattice with a well cut in its centre, confined by four
 // servo walls at `confinement_pa`, water injected into the well at a constant rate. The fluid is
-// scaled soft (K_f = 1e6 Pa, as PFC users do) so that the DEM step is the contacts'.
+// scaled soft (K_f = 1e6 Pa, as PFC users do) so that the DEM step is the contacts'. The walls
+// are platens drained at 0 Pa, each stretch about as conductive as two of the sample's pipes.
+inline constexpr double kDrainedPlatenConductance = 1e-10;  // m/(Pa s)
 inline SceneSpec HydrofracScene(double confinement_pa, double bond_strength_pa) {
   SceneSpec s;
   s.name = "hydraulic fracturing";
@@ -99,7 +114,8 @@ inline SceneSpec HydrofracScene(double confinement_pa, double bond_strength_pa) 
   WallsEffectSpec walls;
   for (const WallSide side :
        {WallSide::kLeft, WallSide::kRight, WallSide::kBottom, WallSide::kTop}) {
-    walls.walls.push_back(WallSpec{side, confinement_pa, 0.5, 0.02});
+    walls.walls.push_back(
+        Drained(SideWall(side, confinement_pa, 0.5, 0.02), 0.0, kDrainedPlatenConductance));
   }
   s.effects = {contacts,
                bonds,

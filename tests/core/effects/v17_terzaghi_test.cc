@@ -64,8 +64,8 @@ ContactsEffectSpec Contacts(double dt_safety) {
 
 WallsEffectSpec Walls() {
   WallsEffectSpec walls;
-  walls.walls = {WallSpec{WallSide::kBottom}, WallSpec{WallSide::kLeft}, WallSpec{WallSide::kRight},
-                 WallSpec{WallSide::kTop, kLoadStep, 0.5, kServoMaxSpeed}};
+  walls.walls = {SideWall(WallSide::kBottom), SideWall(WallSide::kLeft), SideWall(WallSide::kRight),
+                 SideWall(WallSide::kTop, kLoadStep, 0.5, kServoMaxSpeed)};
   return walls;
 }
 

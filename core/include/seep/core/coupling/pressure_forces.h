@@ -42,6 +42,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -76,6 +77,19 @@ class PressureForceKernel {
   // one kernel per calling thread.
   void Apply(const ParticleView& particles, const double* slot_pressure, double* fx,
              double* fy) const;
+  // Where the forces go when the loops name wall vertices (domain_walls.h): ids below
+  // num_particles into fx, fy; ids from num_particles on into vertex_fx, vertex_fy (indexed by
+  // id - num_particles). `particles` then views the particles followed by the wall vertices, and
+  // Bind took their total count.
+  struct ForceOutput {
+    double* fx = nullptr;
+    double* fy = nullptr;
+    std::size_t num_particles = std::numeric_limits<std::size_t>::max();
+    double* vertex_fx = nullptr;
+    double* vertex_fy = nullptr;
+  };
+  void Apply(const ParticleView& particles, const double* slot_pressure,
+             const ForceOutput& out) const;
   std::size_t num_slots() const { return num_slots_; }
   std::size_t num_contacts() const { return terms_.size(); }
 

@@ -49,6 +49,7 @@
 #include "seep/core/dem/servo_wall.h"
 #include "seep/core/geometry/cell_grid.h"
 #include "seep/core/geometry/contact_detection.h"
+#include "seep/core/geometry/domain_walls.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
@@ -127,6 +128,12 @@ class DemContactForces {
   // max_gap <= settings().flow_gap (with a larger max_gap some pairs are silently missing).
   // Before the first force pass the list is empty.
   void CollectFlowContacts(double max_gap, ContactList* out) const;
+  // The disk-wall contacts the flow coupling treats as feet of wall pores (domain_walls.h): every
+  // listed (particle, wall) whose gap at the last force pass is <= max_gap with the centre on the
+  // wall's side (gap > -radius), sorted, with that gap and (if normal_force is given) the normal
+  // force of the last pass (0 when open). Complete up to the skin (max_gap <= skin).
+  void CollectFlowWallContacts(double max_gap, const DemParticles& particles, WallContactList* out,
+                               std::vector<double>* normal_force = nullptr) const;
 
   // Everything that influences later passes (see dem_contact_state.h), as plain arrays.
   DemContactState SaveState() const;

@@ -54,6 +54,12 @@ struct LiveState {
   // Mechanics (the contacts effect makes them; empty for a frozen packing).
   DemParticles particles;
   std::vector<DemWall> walls;
+  // Per wall, what the pore fluid of the domains it closes does to it (the fluid forces effect
+  // writes them, the walls effect's servo and report read them; 0 without fluid forces): the
+  // normal force per m of thickness (> 0 compression, as contact loads), and the stiffness the
+  // sealed pores oppose to its motion, sum K_f l^2 / V_s over them (the servo's gain needs it).
+  std::vector<double> wall_pore_force;
+  std::vector<double> wall_fluid_stiffness;
   std::optional<DemContactForces> contacts;
   FluidBooks books;
   EffectCounters counters;

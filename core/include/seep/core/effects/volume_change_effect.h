@@ -8,6 +8,7 @@
 
 #include "seep/core/coupling/domain_volume_update.h"
 #include "seep/core/effects/effect.h"
+#include "seep/core/effects/fluid_vertices.h"
 
 namespace seep::core {
 
@@ -29,6 +30,7 @@ class VolumeChangeEffect final : public Effect {
 
  private:
   DomainVolumeUpdater updater_;
+  mutable FluidVertices vertices_;  // scratch: the particles and wall vertices now
   std::vector<double> apparent_, pore_;
   std::vector<double> change_;
 };

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -52,7 +53,8 @@ struct WallContactList {
   void Clear();
 };
 
-// Every (particle, wall) with gap <= max_gap and the centre on the sample side (gap > -R), in
+// Every (particle, wall) with gap <= max_gap and the centre on the sample side (gap > -R, the
+// DEM's rule, DemContactForces::CollectFlowWallContacts), in
 // (particle, wall) order: what a set-up without a DEM uses (a DEM lists its own).
 WallContactList FindWallContacts(const Packing& packing, std::span<const WallLine> walls,
                                  double max_gap);
@@ -67,8 +69,10 @@ std::vector<DetectionWall> ClipWalls(const Packing& packing, std::span<const Wal
 // The wall vertices and wall edges of a detection (DomainNetwork::walls). Vertex v has id
 // num_particles + v in the loops; edge e has id num_contacts + e.
 struct DomainWalls {
-  std::int32_t num_particles = 0;  // loop ids from here on are wall vertices
-  std::int32_t num_contacts = 0;   // contact ids from here on are wall edges
+  // Loop ids from num_particles on are wall vertices, contact ids from num_contacts on wall
+  // edges; without walls both stay at the largest id, so nothing is either.
+  std::int32_t num_particles = std::numeric_limits<std::int32_t>::max();
+  std::int32_t num_contacts = std::numeric_limits<std::int32_t>::max();
   // Per vertex: its wall, the second wall of a corner (-1 otherwise), the particle of a foot (-1
   // for an end or a corner), and its position at detection.
   std::vector<std::int32_t> vertex_wall, vertex_other_wall, vertex_particle;

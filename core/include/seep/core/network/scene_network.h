@@ -15,6 +15,13 @@
 // mean distance from the well centre of the interior centroids reflected through the hull contact
 // points.
 //
+// Walls (physics.md §2.4 option B): with a walls effect the pores along the walls are domains
+// closed by them (domain_walls.h). A foot (particle-wall contact) carries a pipe like a contact;
+// a stretch of an impermeable wall carries none, a stretch of a drained wall is a pipe of
+// conductance drain.conductance x its length at detection into that wall's reservoir node (one
+// per drained wall, after the other reservoir nodes). Hull contacts where no wall is keep the
+// rules above; a walls-only boundary (BoundarySpec::walls_only) has no other reservoir.
+//
 // Darcy geometry of the sample, for the permeability k = mu Q L / (H dP):
 //   length_m   distance along the axis between the two reservoirs' effective positions. A
 //              reservoir pipe stands for the bond to a missing neighbour domain beyond the hull;
@@ -62,8 +69,16 @@ struct SceneNetwork {
   // volumes here, never from `domains`, once the run has started.
   FlowNetwork flow;
   // Per FlowNetwork pipe: the contact it crosses (interior pipes first, in DomainNetwork order,
-  // then the boundary pipes), so callers can refresh apertures from contact forces and gaps.
+  // then the boundary pipes), so callers can refresh apertures from contact forces and gaps: a
+  // detection contact id (a wall edge past the contacts, DomainWalls), or -1 for a pipe through a
+  // drained wall, whose conductance is the scene's and stays.
   std::vector<std::int32_t> pipe_contact;
+  // Walls in the fluid (empty without a walls effect): the wall lines of the detection, in the
+  // walls effect's order, the particle-wall contacts it used, and per wall the reservoir node of
+  // a drained wall (-1: impermeable).
+  std::vector<WallLine> walls;
+  WallContactList wall_contacts;
+  std::vector<std::int32_t> wall_node;
   // Linear boundary: the pipes to the two reservoirs, in flow-pipe order.
   std::vector<ReservoirPipe> reservoir_pipes;
   std::int32_t inlet_node = -1;
@@ -78,6 +93,8 @@ struct SceneNetwork {
   // Set by a re-detection on moving particles: a fracture that reaches the hull joins the well to
   // the outside, which then leaves no well domain (well_domain = -1) instead of an error.
   bool well_may_vanish = false;
+  // With walls: the well domain reaches a wall (a fracture from the well met the boundary).
+  bool well_on_wall = false;
   std::int32_t outer_node = -1;  // the outer reservoir
   std::int64_t outer_pipes = 0;
   double well_x_m = 0.0;  // the well centre (centre of the full packing's bounding box)
@@ -94,8 +111,9 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene);
 
 // The second half of BuildSceneNetwork, for a re-detection on moved particles: domains, pipes and
 // the flow network of net.packing with the contacts in net.contacts (sorted by (i, j), as
-// ContactDetector lists them). The caller sets packing, contacts, mean_radius_m and, for radial
-// scenes, the well centre; everything else is rebuilt. Same checks and messages as the build.
+// ContactDetector lists them) and the walls in net.walls / net.wall_contacts. The caller sets
+// packing, contacts, walls, wall_contacts, mean_radius_m and, for radial scenes, the well centre;
+// everything else is rebuilt. Same checks and messages as the build.
 Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net);
 
 // The storage model of a run on `flow`, the network at set-up: the scene's volume and factor, and
@@ -106,6 +124,9 @@ StorageModel RunStorage(const SceneSpec& scene, const FlowNetwork& flow);
 // The scene's aperture law (reference force 1 N/m when the scene leaves it 0, no cap when
 // max_aperture_m is 0).
 ApertureLaw SceneApertureLaw(const SceneSpec& scene);
+
+// The gap of a detection contact id (a wall edge's from the detection's wall table).
+double DetectionContactGap(const SceneNetwork& net, std::int32_t contact);
 
 // Largest gap that counts as a contact: packing.contact_gap_m plus a round-off tolerance of
 // 1e-9 mean radii (lattice disks that touch in theory sit 1e-16 apart in floating point).

@@ -43,6 +43,8 @@ struct SceneFields {
   std::vector<double> domain_pore_volume;         // V_p
   std::vector<std::int32_t> domain_loop_offsets;  // CSR, size domains + 1
   std::vector<std::int32_t> domain_loop_particles;
+  // Loop ids from the particle count on: wall vertices, at these positions (domain_walls.h).
+  std::vector<double> wall_vertex_x, wall_vertex_y;
 
   std::vector<std::int32_t> pipe_domain_a;
   std::vector<std::int32_t> pipe_domain_b;  // -1: a reservoir

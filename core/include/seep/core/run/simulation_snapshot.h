@@ -39,6 +39,11 @@ struct MechanicsSnapshot {
   std::vector<double> detection_x, detection_y;
   std::vector<std::int32_t> detection_i, detection_j;
   std::vector<double> detection_gap;
+  // With walls in the fluid: the wall lines it was detected with (px, py, nx, ny per wall) and
+  // the particle-wall contacts (particle, wall, gap) it used.
+  std::vector<double> detection_walls;
+  std::vector<std::int32_t> detection_wall_particle, detection_wall_wall;
+  std::vector<double> detection_wall_gap;
   // Flow coefficients per node / pipe of that network.
   std::vector<double> apparent_volume, pore_volume, aperture;
   std::uint64_t topology_version = 0;

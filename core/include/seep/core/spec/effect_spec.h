@@ -12,6 +12,8 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string_view>
 #include <type_traits>
 #include <variant>
@@ -53,14 +55,46 @@ struct LocalDampingEffectSpec {
 
 enum class WallSide { kLeft, kRight, kBottom, kTop };
 
+// A drained wall: a porous platen behind which the fluid is held at pressure_pa. Each stretch of
+// the wall that closes a domain is a pipe of conductance conductance_m_per_pa_s x its length into
+// the platen's reservoir (q = C (P_wall - P_domain), m^2/s per m of thickness).
+struct WallDrainSpec {
+  double pressure_pa = std::numeric_limits<double>::quiet_NaN();  // required
+  double conductance_m_per_pa_s = 0.0;                            // > 0
+};
+
 // A rigid wall on one side of the packing's bounding box, touching its outermost disk; with
 // servo_stress_pa > 0 its speed is servo-controlled to hold that normal stress (servo_wall.h).
+// With flow, the wall bounds the fluid (physics.md §2.4 option B): the pores along it are
+// domains closed by it, it is impermeable unless drained, and the pore pressure of those domains
+// pushes on it. The servo holds the total stress (contacts + pore pressure) unless
+// servo_effective_stress asks for the contacts' stress alone.
 struct WallSpec {
   WallSide side = WallSide::kBottom;
   double servo_stress_pa = 0.0;  // 0 = fixed wall
   double servo_gain_fraction = 0.5;
-  double servo_max_speed_m_s = 0.0;  // > 0 for a servo wall
+  double servo_max_speed_m_s = 0.0;    // > 0 for a servo wall
+  std::optional<WallDrainSpec> drain;  // unset: impermeable
+  bool servo_effective_stress = false;
 };
+
+// A fixed wall on `side`, or a servo wall when servo_stress_pa > 0; impermeable, servo on the
+// total stress (what code that builds scenes, tests and benches, starts from).
+inline WallSpec SideWall(WallSide side, double servo_stress_pa = 0.0,
+                         double servo_gain_fraction = 0.5, double servo_max_speed_m_s = 0.0) {
+  WallSpec w;
+  w.side = side;
+  w.servo_stress_pa = servo_stress_pa;
+  w.servo_gain_fraction = servo_gain_fraction;
+  w.servo_max_speed_m_s = servo_max_speed_m_s;
+  return w;
+}
+
+// The same wall, drained into a reservoir at pressure_pa.
+inline WallSpec Drained(WallSpec wall, double pressure_pa, double conductance_m_per_pa_s) {
+  wall.drain = WallDrainSpec{pressure_pa, conductance_m_per_pa_s};
+  return wall;
+}
 
 struct WallsEffectSpec {
   std::vector<WallSpec> walls;

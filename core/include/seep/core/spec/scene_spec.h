@@ -90,6 +90,9 @@ struct BoundarySpec {
   // Linear only: the inlet end is a no-flow base (e.g. the undrained bottom of a consolidation
   // column); fluid leaves through the outlet end only and inlet_pressure_pa is unused.
   bool closed_inlet = false;
+  // Neither linear nor radial: the walls alone bound the fluid (needs a walls effect); fluid
+  // enters or leaves only through drained walls, and with none the sample is sealed.
+  bool walls_only = false;
 };
 
 // kImplicit is backward Euler; kCrankNicolson the theta = 1/2 method (second order, oscillates
