@@ -85,6 +85,8 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_option("file", calibrate.file, "calibration file (.textproto or .json)")
       ->required();
   calibrate_cmd->add_option("--tag", calibrate.tags, "a tag stored with the records; repeatable");
+  calibrate_cmd->add_option("--label", calibrate.labels,
+                            "a KEY=VALUE label of the job (seep list --label); repeatable");
   calibrate_cmd->add_option("--name", calibrate.name, "job name (default: the file's name)");
   calibrate_cmd->add_option("--from-job", calibrate.from_job,
                             "take the packing of this earlier job (overrides from_job_id)");

@@ -16,9 +16,10 @@ constexpr std::size_t kTokenBytes = 8 + kFingerprintBytes;  // cursor, then fing
 constexpr std::string_view kAlphabet =
     "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";  // base64url
 
-// What the request asks for, without its paging: the same filters give the same bytes
-// (deterministic serialization sorts map entries).
-std::string FilterFingerprint(const google::protobuf::Message& request) {
+// The cursor with what the request asks for, without its paging: the same filters give the same
+// bytes (deterministic serialization sorts map entries). Covering the cursor too makes a token
+// with a changed byte fail, rather than page from somewhere else.
+std::string Fingerprint(const std::string& cursor_bytes, const google::protobuf::Message& request) {
   std::unique_ptr<google::protobuf::Message> filters(request.New());
   filters->CopyFrom(request);
   const auto* descriptor = filters->GetDescriptor();
@@ -34,7 +35,7 @@ std::string FilterFingerprint(const google::protobuf::Message& request) {
     coded.SetSerializationDeterministic(true);
     filters->SerializeToCodedStream(&coded);
   }
-  return Sha256(bytes).substr(0, kFingerprintBytes);
+  return Sha256(cursor_bytes + bytes).substr(0, kFingerprintBytes);
 }
 
 std::string Base64Url(const std::string& bytes) {
@@ -78,7 +79,7 @@ std::string EncodePageToken(std::int64_t cursor, const google::protobuf::Message
     bytes[static_cast<std::size_t>(i)] =
         static_cast<char>((static_cast<std::uint64_t>(cursor) >> (56 - 8 * i)) & 0xff);
   }
-  return Base64Url(bytes + FilterFingerprint(request));
+  return Base64Url(bytes + Fingerprint(bytes, request));
 }
 
 core::Result<std::optional<std::int64_t>> DecodePageToken(const std::string& token,
@@ -89,7 +90,7 @@ core::Result<std::optional<std::int64_t>> DecodePageToken(const std::string& tok
   if (!bytes || bytes->size() != kTokenBytes || Base64Url(*bytes) != token) {
     return core::InvalidArgument(fmt::format("page_token: not a token returned by {}", rpc));
   }
-  if (bytes->substr(8) != FilterFingerprint(request)) {
+  if (bytes->substr(8) != Fingerprint(bytes->substr(0, 8), request)) {
     return core::InvalidArgument(fmt::format(
         "page_token: was returned by {} for other filters; a token continues only the listing "
         "it came from (ask again without page_token)",

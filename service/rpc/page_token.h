@@ -1,7 +1,8 @@
 // Page tokens of the list calls: opaque to clients, and bound to the filters of the call that
-// returned them. A token carries the store's cursor and a fingerprint of the request with its
-// paging fields (page_token, page_size) cleared; a token reused with other filters would page
-// through another listing from a cursor that means nothing there, so it is refused.
+// returned them. A token carries the store's cursor and a fingerprint of the cursor and of the
+// request with its paging fields (page_token, page_size) cleared; a token reused with other
+// filters would page through another listing from a cursor that means nothing there, and a
+// damaged one from anywhere, so both are refused.
 #pragma once
 
 #include <google/protobuf/message.h>

@@ -127,6 +127,22 @@ TEST_F(ServiceOperations, LabelsAreCheckedAtSubmitAndFilterTheList) {
                 .size(),
             0u);
   EXPECT_EQ(CliJson({"list"})["jobs"].size(), 2u);
+  // A calibration job carries labels too.
+  const CommandResult calibration =
+      Cli({"calibrate", std::string(SEEP_EXAMPLES_DIR) + "/calibration_sweep.textproto", "--label",
+           "team=calibration"});
+  ASSERT_EQ(calibration.exit_code, 0) << calibration.output;
+  const nlohmann::json calibrations = CliJson({"list", "--label", "team=calibration"});
+  ASSERT_EQ(calibrations["jobs"].size(), 1u) << calibrations.dump();
+  EXPECT_EQ(calibrations["jobs"][0]["kind"], "JOB_KIND_CALIBRATION");
+  ASSERT_EQ(WaitTerminal(IdFrom(calibration)).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_FALSE(CliJson({"calibrations", "--job", IdFrom(calibration)})
+                   .value("records", nlohmann::json::array())
+                   .empty());
+  ASSERT_EQ(Cli({"delete", IdFrom(calibration)}).exit_code, 0);  // with its calibration records
+  EXPECT_TRUE(CliJson({"calibrations", "--job", IdFrom(calibration)})
+                  .value("records", nlohmann::json::array())
+                  .empty());
   const CommandResult shown = Cli({"show", ana_id});
   EXPECT_NE(shown.output.find("labels    owner=ana.b@lab,team=flow"), std::string::npos)
       << shown.output;
