@@ -92,8 +92,8 @@ core::Result<std::optional<std::int64_t>> DecodePageToken(const std::string& tok
   }
   if (bytes->substr(8) != Fingerprint(bytes->substr(0, 8), request)) {
     return core::InvalidArgument(fmt::format(
-        "page_token: was returned by {} for other filters; a token continues only the listing "
-        "it came from (ask again without page_token)",
+        "page_token: was returned by {} for other filters, or is damaged; a token continues "
+        "only the listing it came from (ask again without page_token)",
         rpc));
   }
   std::uint64_t cursor = 0;

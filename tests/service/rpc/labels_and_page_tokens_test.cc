@@ -105,6 +105,8 @@ TEST(PageTokens, OtherFiltersOrAForgedTokenAreRefused) {
     const auto refused = DecodePageToken(forged, request, "ListJobs");
     EXPECT_EQ(refused.status().code(), core::StatusCode::kInvalidArgument) << forged;
   }
+  EXPECT_NE(DecodePageToken(flipped, request, "ListJobs").status().message().find("or is damaged"),
+            std::string::npos);
   EXPECT_EQ(DecodePageToken("40", request, "ListJobs").status().message(),
             "page_token: not a token returned by ListJobs");
   // A token of one job's events does not page another job's.
