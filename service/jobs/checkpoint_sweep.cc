@@ -8,6 +8,20 @@
 #include "store/durable_files.h"
 
 namespace seep::service {
+namespace {
+
+namespace fs = std::filesystem;
+
+// 1 when `path` had other permission bits than `mode` and now has `mode`, else 0.
+int MakePrivate(const fs::path& path, fs::perms mode) {
+  std::error_code ec;
+  const fs::perms now = fs::status(path, ec).permissions() & fs::perms::all;
+  if (ec || now == mode) return 0;
+  fs::permissions(path, mode, fs::perm_options::replace, ec);
+  return ec ? 0 : 1;
+}
+
+}  // namespace
 
 core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
                                                 const std::filesystem::path& checkpoints_dir,
@@ -30,8 +44,11 @@ core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
       folders.push_back(path);
     } else if (!keep.contains(path)) {
       files.push_back(path);
+    } else {
+      counts.tightened += MakePrivate(path, fs::perms::owner_read | fs::perms::owner_write);
     }
   }
+  counts.tightened += MakePrivate(root, fs::perms::owner_all);
   if (ec)
     return core::Unavailable("checkpoint sweep: cannot list " + root.string() + ": " +
                              ec.message());
@@ -52,7 +69,10 @@ core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
   }
   // Deepest first, so that a folder emptied by its children's removal goes too.
   for (auto it = folders.rbegin(); it != folders.rend(); ++it) {
-    if (!std::filesystem::is_empty(*it, ec) || ec) continue;
+    if (!std::filesystem::is_empty(*it, ec) || ec) {
+      counts.tightened += MakePrivate(*it, fs::perms::owner_all);
+      continue;
+    }
     if (core::Status s = RemoveDurably(*it); !s.ok()) {
       log.warn("checkpoint sweep: {}", s.message());
       ++counts.failures;
@@ -60,13 +80,15 @@ core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
     }
     ++counts.empty_folders;
   }
-  if (counts.orphan_files + counts.temp_files + counts.empty_folders + counts.failures > 0) {
+  if (counts.orphan_files + counts.temp_files + counts.empty_folders + counts.failures +
+          counts.tightened >
+      0) {
     log.info(
         "checkpoint sweep of {}: removed {} orphan file(s) (no checkpoint record), {} temporary "
         "file(s) of interrupted writes, {} empty folder(s); {} bytes freed, {} could not be "
-        "removed",
+        "removed; {} kept file(s) or folder(s) made private",
         root.string(), counts.orphan_files, counts.temp_files, counts.empty_folders, counts.bytes,
-        counts.failures);
+        counts.failures, counts.tightened);
   }
   return counts;
 }
