@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "call_support.h"
+#include "job_admin_commands.h"
 #include "scene_file.h"
 #include "seep/v1/job_service.grpc.pb.h"
 
@@ -100,13 +101,19 @@ int Calibrate(const GlobalOptions& global, const CalibrateOptions& options) {
   if (!options.from_job.empty()) calibration->set_from_job_id(options.from_job);
   for (const std::string& tag : options.tags) calibration->add_tags(tag);
   request.set_request_id(options.request_id.empty() ? NewSubmitRequestId() : options.request_id);
+  if (const std::string bad = ParseLabelOptions(options.labels, request.mutable_labels());
+      !bad.empty()) {
+    std::fprintf(stderr, "seep: calibrate: %s\n", bad.c_str());
+    return kBadInput;
+  }
 
   auto stub = v1::SeepService::NewStub(OpenChannel(global));
   grpc::ClientContext ctx;
   PrepareUnaryCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
-    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
+    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT &&
+        status.error_message().rfind("labels", 0) != 0) {
       // "calibration.target_permeabilities_m2[3]: ..." gets the file and the line of that field.
       std::fprintf(stderr, "%s\n", file.PointAt(status.error_message(), "calibration").c_str());
       return kBadInput;

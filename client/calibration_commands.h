@@ -14,8 +14,9 @@ struct CalibrateOptions {
   std::string file;  // a seep.v1.Calibration, .textproto or .json
   std::string name;
   std::string request_id;
-  std::string from_job;           // overrides the file's from_job_id
-  std::vector<std::string> tags;  // added to the file's tags
+  std::string from_job;             // overrides the file's from_job_id
+  std::vector<std::string> tags;    // added to the file's tags
+  std::vector<std::string> labels;  // KEY=VALUE labels of the job
   bool watch = false;
 };
 

@@ -19,6 +19,7 @@
 #include "call_support.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
+#include "job_admin_commands.h"
 #include "job_printer.h"
 #include "scene_file.h"
 #include "seep/v1/job_service.grpc.pb.h"
@@ -174,13 +175,19 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   if (!options.name.empty()) request.mutable_scene()->set_name(options.name);
   request.set_request_id(options.request_id.empty() ? NewRequestId() : options.request_id);
   request.set_priority(options.priority);
+  if (const std::string bad = ParseLabelOptions(options.labels, request.mutable_labels());
+      !bad.empty()) {
+    std::fprintf(stderr, "seep: submit: %s\n", bad.c_str());
+    return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+  }
 
   auto stub = v1::SeepService::NewStub(Connect(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
-    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
+    if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT &&
+        status.error_message().rfind("labels", 0) != 0) {
       // The server names the field ("scene.fluid.viscosity_pa_s: ..."): add the file and line.
       std::fprintf(stderr, "%s\n", file.PointAt(status.error_message(), "scene").c_str());
       return static_cast<int>(status.error_code());
@@ -304,6 +311,11 @@ int List(const GlobalOptions& global, const ListOptions& options) {
     }
     kinds.push_back(kind);
   }
+  google::protobuf::Map<std::string, std::string> labels;
+  if (const std::string bad = ParseLabelOptions(options.labels, &labels); !bad.empty()) {
+    std::fprintf(stderr, "seep: list: %s\n", bad.c_str());
+    return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+  }
   auto stub = v1::SeepService::NewStub(Connect(global));
   v1::ListJobsResponse all;
   std::string token;
@@ -316,6 +328,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
     for (const v1::JobState state : states) request.add_states(state);
     request.set_name_contains(options.name_contains);
     for (const v1::JobKind kind : kinds) request.add_kinds(kind);
+    *request.mutable_labels() = labels;
     v1::ListJobsResponse page;
     if (auto status = stub->ListJobs(&ctx, request, &page); !status.ok()) {
       return ReportRpcError(global, "list", status);

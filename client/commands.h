@@ -20,7 +20,7 @@ inline constexpr const char* kExitCodeHelp =
     "      rejects (FILE:LINE: scene.<field>: reason), a bad flag value\n"
     "  5   no such job\n"
     "  6   the request id was already used for another scene\n"
-    "  9   the job is in the wrong state for the command (e.g. resume a running job)\n"
+    "  9   the job is in the wrong state for the command (e.g. resume or delete a running job)\n"
     "  14  server unreachable (or the call timed out: --timeout)\n"
     "  16  missing or wrong token\n"
     "  1-16 any other gRPC status code of the failed call\n"
@@ -50,6 +50,7 @@ struct SubmitOptions {
   std::string name;
   std::string request_id;
   int priority = 0;
+  std::vector<std::string> labels;  // KEY=VALUE
   bool watch = false;
 };
 
@@ -60,7 +61,8 @@ struct ListOptions {
   unsigned limit = 50;
   std::vector<std::string> states;  // queued, running, succeeded, failed, cancelled (any case)
   std::string name_contains;
-  std::vector<std::string> kinds;  // simulation, calibration (any case)
+  std::vector<std::string> kinds;   // simulation, calibration (any case)
+  std::vector<std::string> labels;  // KEY=VALUE: jobs carrying every one
 };
 
 int List(const GlobalOptions& global, const ListOptions& options);

@@ -39,6 +39,7 @@ std::string FormatJob(const v1::Job& job) {
   }
   out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
   if (job.priority() != 0) out += fmt::format("priority  {}\n", job.priority());
+  if (!job.labels().empty()) out += fmt::format("labels    {}\n", FormatLabels(job));
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
   }
@@ -53,6 +54,17 @@ std::string FormatJob(const v1::Job& job) {
     for (const auto& [name, value] : metrics) out += fmt::format("  {:<28} {:.9g}\n", name, value);
   }
   return out;
+}
+
+std::string FormatLabels(const v1::Job& job) {
+  const std::map<std::string, std::string> sorted(job.labels().begin(), job.labels().end());
+  std::string out;
+  for (const auto& [key, value] : sorted) out += (out.empty() ? "" : ",") + key + "=" + value;
+  return out;
+}
+
+std::string FormatJobEvent(const v1::JobHistoryEvent& event) {
+  return fmt::format("{:<24}  {:<21} {}", FormatTime(event.at()), event.kind(), event.message());
 }
 
 std::string FormatResult(const v1::JobResult& result) {

@@ -18,5 +18,7 @@ std::string FormatProgress(const v1::Job& job);  // one line: state, step, time,
 std::string FormatProgressBar(const v1::Job& job, int columns);
 std::string FormatDuration(double seconds);             // "42 s", "3m05s", "2h07m"
 std::string FormatResult(const v1::JobResult& result);  // METRIC / VALUE table, sorted by name
+std::string FormatLabels(const v1::Job& job);           // "k1=v1,k2=v2", sorted by key
+std::string FormatJobEvent(const v1::JobHistoryEvent& event);  // one line: time, kind, message
 
 }  // namespace seep::client

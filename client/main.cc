@@ -5,6 +5,7 @@
 #include "calibration_commands.h"
 #include "commands.h"
 #include "field_commands.h"
+#include "job_admin_commands.h"
 
 int main(int argc, char** argv) {
   using namespace seep::client;  // NOLINT(google-build-using-namespace)
@@ -21,7 +22,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--json", global.json,
                "print machine-readable JSON on stdout (submit, show, list, result, watch, cancel, "
-               "resume, health, calibrate, calibrations)");
+               "resume, delete, events, health, calibrate, calibrations)");
   app.add_option("--token", global.token,
                  "bearer token for a seepd started with a token (visible in ps: prefer "
                  "SEEP_TOKEN or --token-file)")
@@ -40,6 +41,8 @@ int main(int argc, char** argv) {
                          "idempotency key: submitting it again returns the same job");
   submit_cmd->add_option("--priority", submit.priority,
                          "queued jobs run highest priority first (-1000 to 1000; default 0)");
+  submit_cmd->add_option("--label", submit.labels,
+                         "a KEY=VALUE label to find the job by (seep list --label); repeatable");
   submit_cmd->add_flag("--watch", submit.watch, "follow the job until it finishes");
 
   std::string job_id;
@@ -59,6 +62,8 @@ int main(int argc, char** argv) {
   list_cmd->add_option("--name", list.name_contains, "only jobs whose name contains this");
   list_cmd->add_option("--kind", list.kinds,
                        "only jobs of this kind (simulation, calibration); repeat for several");
+  list_cmd->add_option("--label", list.labels,
+                       "only jobs carrying this KEY=VALUE label; repeat: all must be present");
   auto* cancel_cmd = app.add_subcommand("cancel", "cancel a queued or running job");
   cancel_cmd->add_option("job", job_id, "job id")->required();
   auto* resume_cmd =
@@ -67,6 +72,12 @@ int main(int argc, char** argv) {
   auto* result_cmd = app.add_subcommand("result", "show the metrics of a succeeded job");
   result_cmd->add_option("job", job_id, "job id")->required();
   auto* health_cmd = app.add_subcommand("health", "check that seepd is serving");
+  auto* delete_cmd =
+      app.add_subcommand("delete", "delete a finished job with its result and checkpoint files");
+  delete_cmd->add_option("job", job_id, "job id")->required();
+  auto* events_cmd = app.add_subcommand(
+      "events", "a job's history: claims, resumes, checkpoints, interruptions, outcome");
+  events_cmd->add_option("job", job_id, "job id")->required();
 
   CalibrateOptions calibrate;
   auto* calibrate_cmd = app.add_subcommand(
@@ -74,6 +85,8 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_option("file", calibrate.file, "calibration file (.textproto or .json)")
       ->required();
   calibrate_cmd->add_option("--tag", calibrate.tags, "a tag stored with the records; repeatable");
+  calibrate_cmd->add_option("--label", calibrate.labels,
+                            "a KEY=VALUE label of the job (seep list --label); repeatable");
   calibrate_cmd->add_option("--name", calibrate.name, "job name (default: the file's name)");
   calibrate_cmd->add_option("--from-job", calibrate.from_job,
                             "take the packing of this earlier job (overrides from_job_id)");
@@ -132,6 +145,8 @@ int main(int argc, char** argv) {
   if (*resume_cmd) return Resume(global, job_id);
   if (*result_cmd) return Result(global, job_id);
   if (*health_cmd) return Health(global);
+  if (*delete_cmd) return Delete(global, job_id);
+  if (*events_cmd) return Events(global, job_id);
   if (*calibrate_cmd) return Calibrate(global, calibrate);
   if (*lookup_cmd) return LookupCalibration(global, lookup);
   if (*calibrations_cmd) return ListCalibrations(global, calibrations);

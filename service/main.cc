@@ -13,27 +13,32 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <thread>
 
 #include "codec/scene_codec.h"
+#include "jobs/checkpoint_sweep.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
 #include "jobs/physics_pool.h"
+#include "jobs/retention.h"
+#include "jobs/secure_random.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "seep/core/log.h"
 #include "seep/core/threads.h"
+#include "store/durable_files.h"
 #include "store/job_store.h"
 
 namespace {
@@ -43,8 +48,12 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 
 extern "C" void OnStopSignal(int sig) {
   g_stop_signal = sig;
-  sem_post(&g_stop_signalled);  // async-signal-safe
+  sem_post(&g_stop_signalled);  // async-signal-safe; a second post is the second signal
 }
+
+// Exit status of a seepd whose shutdown was cut short (a second signal, or the time limit): its
+// running jobs stay RUNNING with their leases, and the next start queues them again.
+constexpr int kExitShutdownForced = 3;
 
 struct Options {
   std::string listen = "127.0.0.1:50051";
@@ -67,7 +76,44 @@ struct Options {
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
+  double retain_days = 0.0;                  // 0: finished jobs are kept however old
+  std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
+  double retention_interval_s = 600.0;
+  double shutdown_timeout_s = 60.0;
 };
+
+// Waits for the drain to finish (`drained`), a second signal or the time limit; the last two end
+// the process at once, saying why.
+void AwaitDrain(const std::atomic<bool>& drained, double timeout_s, spdlog::logger& logger) {
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::milliseconds(static_cast<std::int64_t>(timeout_s * 1000));
+  while (!drained) {
+    timespec until{};
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_nsec += 100'000'000;
+    if (until.tv_nsec >= 1'000'000'000) {
+      until.tv_sec += 1;
+      until.tv_nsec -= 1'000'000'000;
+    }
+    const bool second_signal = sem_timedwait(&g_stop_signalled, &until) == 0;
+    const bool too_long = std::chrono::steady_clock::now() > deadline;
+    if (!second_signal && !too_long) continue;
+    if (drained) return;
+    if (second_signal) {
+      logger.warn(
+          "second signal {} received: exiting now, without waiting for running jobs to stop (they "
+          "continue from their newest checkpoint at the next start)",
+          static_cast<int>(g_stop_signal));
+    } else {
+      logger.error(
+          "shutdown did not finish within {} s (--shutdown-timeout-s): exiting now; running jobs "
+          "continue from their newest checkpoint at the next start",
+          timeout_s);
+    }
+    logger.flush();
+    std::_Exit(kExitShutdownForced);
+  }
+}
 
 // Loopback addresses and unix sockets are the only places where plaintext without a token is
 // the expected set-up; anything else gets a warning.
@@ -197,11 +243,11 @@ int LockDataDir(const std::string& data_dir, bool& in_use) {
 }
 
 int Run(const Options& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(options.data_dir, ec);
-  if (ec) {
-    std::fprintf(stderr, "seepd: --data-dir %s: cannot create: %s\n", options.data_dir.c_str(),
-                 ec.message().c_str());
+  // Private to its owner (0700) when seepd creates it: it holds every job's scene and state.
+  if (const auto created = seep::service::CreateDirectoriesDurably(options.data_dir);
+      !created.ok()) {
+    std::fprintf(stderr, "seepd: --data-dir %s: %s\n", options.data_dir.c_str(),
+                 created.message().c_str());
     return 2;
   }
   // Before anything else touches the folder (log, database, recovery of interrupted jobs).
@@ -237,9 +283,12 @@ int Run(const Options& options) {
     return 1;
   }
   // Unique per process: any RUNNING lease held by another owner belongs to a previous seepd.
-  std::random_device entropy;
-  std::mt19937_64 rng((static_cast<std::uint64_t>(entropy()) << 32) ^ entropy());
-  const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), rng());
+  const auto owner_bits = seep::service::SecureRandomU64();
+  if (!owner_bits.ok()) {
+    logger->critical("{}", owner_bits.status().message());
+    return 1;
+  }
+  const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), *owner_bits);
   std::vector<seep::service::CrashLoopFailure> crash_loops;
   if (auto requeued =
           (*store)->RequeueRunning(lease_owner, options.max_interruptions, &crash_loops);
@@ -252,6 +301,21 @@ int Run(const Options& options) {
   for (const auto& failure : crash_loops) {
     logger->warn("job {} failed: {}", failure.id, failure.message);
   }
+  // No worker runs yet: whatever a crash left in the checkpoint folder can go.
+  const std::filesystem::path checkpoints_dir =
+      std::filesystem::path(options.data_dir) / "checkpoints";
+  if (auto swept = seep::service::SweepCheckpointFolder(**store, checkpoints_dir, *logger);
+      !swept.ok()) {
+    logger->warn("checkpoint sweep skipped: {}", swept.status().message());
+  }
+  seep::service::RetentionPolicy retention_policy;
+  retention_policy.max_age_ms = static_cast<std::int64_t>(options.retain_days * 86'400'000.0);
+  retention_policy.max_checkpoint_bytes = options.retain_checkpoint_bytes;
+  seep::service::Retention retention(
+      **store, retention_policy,
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.retention_interval_s * 1000)),
+      logger);
+  retention.RunOnce();  // before any worker: nothing changes under it
 
   auto token = LoadToken(options);
   if (!token.ok()) {
@@ -300,7 +364,7 @@ int Run(const Options& options) {
         "are on: not for production",
         options.test_stall_job, options.test_fail_final_writes, options.test_crash_job);
   }
-  runner_options.checkpoints.dir = std::filesystem::path(options.data_dir) / "checkpoints";
+  runner_options.checkpoints.dir = checkpoints_dir;
   runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
   runner_options.checkpoints.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.checkpoint_interval_s * 1000));
@@ -342,15 +406,27 @@ int Run(const Options& options) {
     return 1;
   }
   runner.Start();
+  retention.Start();
 
   std::thread signal_waiter([&] {
     while (sem_wait(&g_stop_signalled) != 0) {
     }  // EINTR: wait again
-    logger->info("signal {} received: shutting down", static_cast<int>(g_stop_signal));
+    logger->info(
+        "signal {} received: shutting down (health NOT_SERVING; running jobs stop at a step and "
+        "are checkpointed; at most {} s, or at once on a second signal)",
+        static_cast<int>(g_stop_signal), options.shutdown_timeout_s);
+    // Probes see NOT_SERVING for the whole drain, while calls are still answered.
     server->GetHealthCheckService()->SetServingStatus(false);
     hub.Close();
-    runner.Stop();
-    server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    std::atomic<bool> drained{false};
+    std::thread drain([&] {
+      retention.Stop();
+      runner.Stop();
+      server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+      drained = true;
+    });
+    AwaitDrain(drained, options.shutdown_timeout_s, *logger);
+    drain.join();
   });
   server->Wait();
   signal_waiter.join();
@@ -433,6 +509,25 @@ int main(int argc, char** argv) {
   app.add_option("--max-scene-bytes", options.max_scene_bytes,
                  "largest serialized scene accepted (larger: INVALID_ARGUMENT, nothing stored)")
       ->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 31))
+      ->capture_default_str();
+  app.add_option("--retain-days", options.retain_days,
+                 "delete finished jobs (with their checkpoints) this many days after they "
+                 "finished; fractions allowed (0 = keep them)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  app.add_option("--retain-checkpoint-bytes", options.retain_checkpoint_bytes,
+                 "while all checkpoint files together exceed this, remove the oldest checkpoints "
+                 "of finished jobs (never a queued or running job's; 0 = no budget)")
+      ->check(CLI::Range(std::int64_t{0}, std::numeric_limits<std::int64_t>::max()))
+      ->capture_default_str();
+  app.add_option("--retention-interval-s", options.retention_interval_s,
+                 "seconds between two applications of the retention flags (also at start)")
+      ->check(CLI::Range(0.1, 1e7))
+      ->capture_default_str();
+  app.add_option("--shutdown-timeout-s", options.shutdown_timeout_s,
+                 "after SIGINT/SIGTERM, seconds to wait for running jobs to stop and checkpoint "
+                 "before exiting anyway (status 3; a second signal exits at once)")
+      ->check(CLI::Range(0.1, 86400.0))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {

@@ -96,6 +96,13 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   out->set_attempt(job.attempt);
   out->set_priority(job.priority);
   out->set_cancel_requested(job.cancel_requested);
+  for (const auto& [key, value] : job.labels) (*out->mutable_labels())[key] = value;
+}
+
+void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out) {
+  SetTime(event.at_ms, out->mutable_at());
+  out->set_kind(event.kind);
+  out->set_message(event.message);
 }
 
 }  // namespace seep::service

@@ -1,4 +1,4 @@
-// JobRecord (the store's form) -> seep.v1.Job (the wire form).
+// JobRecord (the store's form) -> seep.v1.Job (the wire form), and a job's events.
 #pragma once
 
 #include <optional>
@@ -16,5 +16,6 @@ v1::JobKind JobKindToProto(JobKind kind);
 std::optional<JobKind> JobKindFromProto(v1::JobKind kind);
 // with_scene = false leaves Job.scene (or Job.calibration) empty (ListJobs keeps pages small).
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out);
+void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out);
 
 }  // namespace seep::service

@@ -8,6 +8,7 @@
 #include "jobs/newest_checkpoint.h"
 #include "jobs/wall_clock.h"
 #include "store/checkpoint_io.h"
+#include "store/durable_files.h"
 
 namespace seep::service {
 CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,
@@ -81,9 +82,8 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
                                           std::chrono::steady_clock::time_point start) {
   last_step_ = sim.step();
   last_time_ = start;
-  const std::filesystem::path dir = policy_.dir / job_.id;
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
+  const std::filesystem::path dir = std::filesystem::absolute(policy_.dir / job_.id, ec);
   const std::filesystem::path path = dir / fmt::format("ckpt-{:012}.bin", sim.step());
   CheckpointMeta meta;
   meta.build_id = build_id_;
@@ -91,7 +91,9 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
   meta.scene_sha256 = scene_sha256_;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
-  if (auto s = WriteCheckpointFile(path, meta, state); !s.ok()) {
+  core::Status written = CreateDirectoriesDurably(dir);
+  if (written.ok()) written = WriteCheckpointFile(path, meta, state);
+  if (const core::Status& s = written; !s.ok()) {
     log_->warn("checkpoint at step {} not written: {}", sim.step(), s.ToString());
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));
     return core::Status::Ok();
@@ -110,7 +112,8 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
     return core::Status::Ok();
   }
   for (const CheckpointRecord& old : *dropped) {
-    if (old.path != record.path) std::filesystem::remove(old.path, ec);
+    // The one just written may be among them (when stale newer records outrank it): keep it.
+    if (old.step != record.step) std::filesystem::remove(old.path, ec);
   }
   ++written_;
   seconds_writing_ +=

@@ -1,6 +1,7 @@
 // CheckpointKeeper: the periodic checkpoints of one running job, and the resume from them.
 //
-// Files live in <dir>/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified). A checkpoint
+// Files live in <dir>/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified; the folders
+// made durably, 0700). A checkpoint
 // is due every `every_steps` steps or `interval` of wall time, whichever comes first (either may
 // be off); only the newest `keep` files are kept, and each one is recorded in the store (fenced
 // by the job's lease epoch) before older ones are deleted. Resume tries the recorded files newest

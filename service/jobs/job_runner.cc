@@ -157,9 +157,10 @@ void JobRunner::RescueExpired() {
   if (!expired->empty()) wake_.notify_all();
 }
 
-void JobRunner::StallForTest(Running& running, const std::stop_token& shutdown) {
+void JobRunner::StallForTest(Running& running) {
   running.log->warn("test hook --test-stall-job: this worker stops making progress");
-  while (!running.lease_lost && !shutdown.stop_requested()) {
+  // Deaf to shutdown too, as a worker stuck inside a step would be: only the rescue wakes it.
+  while (!running.lease_lost) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   running.log->warn("test hook --test-stall-job: the worker continues");
@@ -237,7 +238,7 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   if (job.kind == JobKind::kCalibration) {
     RunCalibration(job, *running);
   } else {
-    RunSimulation(job, *running, shutdown);
+    RunSimulation(job, *running);
   }
   Unregister(job.id, *running);
   if (!running->lease_lost) hub_.Finished(job.id);  // else the rescuer did, or a new claim runs
@@ -249,8 +250,7 @@ void JobRunner::Unregister(const std::string& id, const Running& running) {
   if (it != running_.end() && it->second.get() == &running) running_.erase(it);
 }
 
-void JobRunner::RunSimulation(const JobRecord& job, Running& running,
-                              const std::stop_token& shutdown) {
+void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
   const std::shared_ptr<spdlog::logger>& log = running.log;
   CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
   std::optional<core::Simulation> sim;
@@ -297,7 +297,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running,
                        job.lease_epoch == 1;
     const bool crash = !options_.test_crash_job.empty() && job.name == options_.test_crash_job;
     control.at_step_end = [&](const core::Simulation& at) {
-      if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running, shutdown);
+      if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running);
       if (crash && at.step() == resumed_from + kTestStallStep) {
         log->critical("test hook --test-crash-job: ending the process");
         std::_Exit(86);

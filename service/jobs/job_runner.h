@@ -126,16 +126,16 @@ class JobRunner {
   // (hung) is told it lost the lease and forgotten, so a new claim can register.
   void RescueLoop(const std::stop_token& stop);
   void RescueExpired();
-  // Test only (test_stall_job): blocks, making no progress, until the lease is lost or seepd
-  // shuts down.
-  void StallForTest(Running& running, const std::stop_token& shutdown);
+  // Test only (test_stall_job): blocks, making no progress and deaf to shutdown (as a worker
+  // stuck in a step), until it is told it lost the lease.
+  void StallForTest(Running& running);
   void RunJob(const JobRecord& job, const std::stop_token& shutdown);
   // Forgets `running` if it is still the job's registered run (a rescued job may be claimed
   // again, by another worker, before its hung worker ends).
   void Unregister(const std::string& id, const Running& running);
   // A simulation job: its scene decoded, resumed from its newest usable checkpoint, run with
   // periodic checkpoints, and its end recorded.
-  void RunSimulation(const JobRecord& job, Running& running, const std::stop_token& shutdown);
+  void RunSimulation(const JobRecord& job, Running& running);
   // A calibration job (job_runner_calibration.cc): calibrates every target with the job's stop
   // token, then records the records and the terminal state, each fenced by the lease epoch.
   void RunCalibration(const JobRecord& job, Running& running);

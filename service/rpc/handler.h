@@ -6,7 +6,6 @@
 
 #include <cstdint>
 #include <exception>
-#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -50,19 +49,6 @@ inline std::uint32_t PageSize(std::uint32_t requested) {
   constexpr std::uint32_t kDefault = 50;
   constexpr std::uint32_t kMax = 1000;
   return requested == 0 ? kDefault : std::min(requested, kMax);
-}
-
-// A page token as a list call `rpc` returned it (a positive cursor); empty: the first page.
-inline core::Result<std::optional<std::int64_t>> ParsePageToken(const std::string& token,
-                                                                const char* rpc) {
-  if (token.empty()) return std::optional<std::int64_t>();
-  try {
-    std::size_t used = 0;
-    const std::int64_t cursor = std::stoll(token, &used);
-    if (used == token.size() && cursor > 0) return std::optional<std::int64_t>(cursor);
-  } catch (const std::exception&) {
-  }
-  return core::InvalidArgument(fmt::format("page_token: not a token returned by {}", rpc));
 }
 
 }  // namespace seep::service

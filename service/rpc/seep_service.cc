@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <random>
 
 #include "codec/job_codec.h"
 #include "codec/scene_codec.h"
+#include "jobs/secure_random.h"
 #include "jobs/wall_clock.h"
 #include "rpc/handler.h"
+#include "rpc/job_labels.h"
+#include "rpc/page_token.h"
 
 namespace seep::service {
 namespace {
@@ -20,10 +22,11 @@ constexpr std::int32_t kMaxPriority = 1000;
 constexpr std::size_t kMaxNameFilterLength = 200;
 
 // Job ids are random, not sequential, so that two servers' ids never collide when records are
-// merged; 64 bits of entropy.
-std::string NewJobId() {
-  thread_local std::mt19937_64 rng{std::random_device{}()};
-  return fmt::format("j-{:016x}", rng());
+// merged, and from the kernel's cryptographic generator so that one id says nothing of the next;
+// 64 bits of entropy.
+core::Result<std::string> NewJobId() {
+  SEEP_ASSIGN_OR_RETURN(const std::uint64_t bits, SecureRandomU64());
+  return fmt::format("j-{:016x}", bits);
 }
 
 }  // namespace
@@ -66,7 +69,8 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
                                                kMinPriority, kMaxPriority, req->priority()));
     }
     JobRecord job;
-    job.id = NewJobId();
+    SEEP_ASSIGN_OR_RETURN(job.labels, CheckLabels(req->labels()));
+    SEEP_ASSIGN_OR_RETURN(job.id, NewJobId());
     job.priority = req->priority();
     if (req->has_calibration()) {
       // seep_service_calibrations.cc: checks, from_job_id, validation, serialization.
@@ -122,7 +126,7 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
                                        v1::ListJobsResponse* resp) {
   return Guarded(ctx, "ListJobs", [&]() -> core::Status {
     SEEP_ASSIGN_OR_RETURN(const std::optional<std::int64_t> cursor,
-                          ParsePageToken(req->page_token(), "ListJobs"));
+                          DecodePageToken(req->page_token(), *req, "ListJobs"));
     JobFilter filter;
     for (const int state : req->states()) {
       const auto known = JobStateFromProto(static_cast<v1::JobState>(state));
@@ -139,6 +143,7 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
       if (!known) return core::InvalidArgument(fmt::format("kinds: {} is not a job kind", kind));
       filter.kinds.push_back(*known);
     }
+    SEEP_ASSIGN_OR_RETURN(filter.labels, CheckLabels(req->labels()));
     SEEP_ASSIGN_OR_RETURN(JobPage page, store_.List(PageSize(req->page_size()), cursor, filter));
     for (JobRecord& job : page.jobs) {
       if (job.state == JobState::kRunning) {
@@ -146,7 +151,7 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
       }
       JobToProto(job, /*with_scene=*/false, resp->add_jobs());
     }
-    if (page.next_cursor) resp->set_next_page_token(std::to_string(*page.next_cursor));
+    if (page.next_cursor) resp->set_next_page_token(EncodePageToken(*page.next_cursor, *req));
     return core::Status::Ok();
   });
 }

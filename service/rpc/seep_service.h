@@ -60,6 +60,10 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   // seep_service_fields.cc
   grpc::Status GetJobFields(Ctx*, const v1::GetJobFieldsRequest*,
                             v1::GetJobFieldsResponse*) override;
+  // seep_service_operations.cc
+  grpc::Status DeleteJob(Ctx*, const v1::DeleteJobRequest*, v1::DeleteJobResponse*) override;
+  grpc::Status ListJobEvents(Ctx*, const v1::ListJobEventsRequest*,
+                             v1::ListJobEventsResponse*) override;
 
  private:
   // Runs a handler body: rpc/handler.h.

@@ -8,6 +8,7 @@
 
 #include "codec/calibration_codec.h"
 #include "rpc/handler.h"
+#include "rpc/page_token.h"
 #include "rpc/seep_service.h"
 #include "store/calibration_lookup.h"
 
@@ -27,7 +28,7 @@ std::int64_t ToMs(const google::protobuf::Timestamp& t) {
 
 grpc::Status ListCalibrationsFrom(JobStore& store, const v1::ListCalibrationsRequest& req,
                                   v1::ListCalibrationsResponse* resp) {
-  auto cursor = ParsePageToken(req.page_token(), "ListCalibrations");
+  auto cursor = DecodePageToken(req.page_token(), req, "ListCalibrations");
   if (!cursor.ok()) return ToGrpcStatus(cursor.status());
   CalibrationFilter filter;
   struct Bound {
@@ -69,7 +70,7 @@ grpc::Status ListCalibrationsFrom(JobStore& store, const v1::ListCalibrationsReq
   for (const StoredCalibration& c : page->records) {
     CalibrationRecordToProto(c, resp->add_records());
   }
-  if (page->next_cursor) resp->set_next_page_token(std::to_string(*page->next_cursor));
+  if (page->next_cursor) resp->set_next_page_token(EncodePageToken(*page->next_cursor, req));
   return grpc::Status::OK;
 }
 

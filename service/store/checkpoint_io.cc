@@ -1,17 +1,13 @@
 #include "checkpoint_io.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/util/delimited_message_util.h>
-#include <unistd.h>
 
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include "durable_files.h"
 #include "seep/v1/checkpoint.pb.h"
 
 namespace seep::service {
@@ -22,48 +18,38 @@ constexpr std::string_view kMagic = "SEEPCKPT";
 using core::DataLoss;
 using core::Status;
 
-Status ErrnoStatus(const std::string& what, const std::filesystem::path& path) {
-  return core::Unavailable(
-      fmt::format("checkpoint: {} {}: {}", what, path.string(), std::strerror(errno)));
-}
-
 void AppendDelimited(const google::protobuf::MessageLite& message, std::string* out) {
   google::protobuf::io::StringOutputStream stream(out);
   google::protobuf::util::SerializeDelimitedToZeroCopyStream(message, &stream);
 }
 
-// Writes all bytes to a new file and fsyncs it.
-Status WriteAndSync(const std::filesystem::path& path, std::string_view bytes) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return ErrnoStatus("cannot create", path);
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      Status s = ErrnoStatus("cannot write", path);
-      ::close(fd);
-      return s;
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    Status s = ErrnoStatus("cannot fsync", path);
-    ::close(fd);
-    return s;
-  }
-  if (::close(fd) != 0) return ErrnoStatus("cannot close", path);
-  return Status::Ok();
-}
+// Length-delimited messages read from a byte string at 64-bit offsets: protobuf's own streams
+// count in int and stop at 2 GiB, a checkpoint file need not. Each message (a header, a chunk of
+// at most kCheckpointChunkBytes, a trailer) is small.
+class DelimitedReader {
+ public:
+  DelimitedReader(std::string_view bytes, std::size_t offset) : bytes_(bytes), offset_(offset) {}
 
-Status SyncDirectory(const std::filesystem::path& dir) {
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return ErrnoStatus("cannot open directory", dir);
-  const int rc = ::fsync(fd);
-  ::close(fd);
-  if (rc != 0) return ErrnoStatus("cannot fsync directory", dir);
-  return Status::Ok();
-}
+  // False when the bytes end or do not hold a whole, parsable message.
+  bool Next(google::protobuf::MessageLite* message) {
+    std::uint64_t length = 0;
+    for (int shift = 0;; shift += 7) {
+      if (offset_ >= bytes_.size() || shift > 28) return false;
+      const auto byte = static_cast<unsigned char>(bytes_[offset_++]);
+      length |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
+      if ((byte & 0x80) == 0) break;
+    }
+    if (length > bytes_.size() - offset_) return false;
+    const bool parsed = message->ParseFromArray(bytes_.data() + offset_, static_cast<int>(length));
+    offset_ += static_cast<std::size_t>(length);
+    return parsed;
+  }
+  std::size_t offset() const { return offset_; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t offset_;
+};
 
 }  // namespace
 
@@ -94,12 +80,10 @@ Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMe
   trailer.set_file_sha256(Sha256(bytes));
   AppendDelimited(trailer, &bytes);
 
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  SEEP_RETURN_IF_ERROR(WriteAndSync(tmp, bytes));
-  if (::rename(tmp.c_str(), path.c_str()) != 0) return ErrnoStatus("cannot rename onto", path);
-  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
-  return SyncDirectory(dir);
+  if (Status s = WriteFileDurably(path, bytes); !s.ok()) {
+    return {s.code(), "checkpoint: " + s.message()};
+  }
+  return Status::Ok();
 }
 
 core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path) {
@@ -114,11 +98,9 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
   };
   if (bytes.compare(0, kMagic.size(), kMagic) != 0) return loss("not a seep checkpoint (magic)");
 
-  google::protobuf::io::ArrayInputStream stream(bytes.data() + kMagic.size(),
-                                                static_cast<int>(bytes.size() - kMagic.size()));
-  bool clean_eof = false;
+  DelimitedReader reader(bytes, kMagic.size());
   v1::CheckpointHeader header;
-  if (!google::protobuf::util::ParseDelimitedFromZeroCopyStream(&header, &stream, &clean_eof)) {
+  if (!reader.Next(&header)) {
     return loss("truncated or corrupt header");
   }
   if (header.format_version() < 1 || header.format_version() > kCheckpointFormatVersion) {
@@ -132,7 +114,7 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
   file.state.reserve(header.state_bytes());
   for (std::uint32_t c = 0; c < header.chunk_count(); ++c) {
     v1::CheckpointChunk chunk;
-    if (!google::protobuf::util::ParseDelimitedFromZeroCopyStream(&chunk, &stream, &clean_eof)) {
+    if (!reader.Next(&chunk)) {
       return loss(fmt::format("truncated at chunk {} of {}", c, header.chunk_count()));
     }
     if (chunk.index() != c || chunk.sha256() != Sha256(chunk.payload())) {
@@ -144,15 +126,15 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
     return loss(
         fmt::format("state has {} bytes, header says {}", file.state.size(), header.state_bytes()));
   }
-  const auto before_trailer = static_cast<std::size_t>(stream.ByteCount()) + kMagic.size();
+  const std::size_t before_trailer = reader.offset();
   v1::CheckpointTrailer trailer;
-  if (!google::protobuf::util::ParseDelimitedFromZeroCopyStream(&trailer, &stream, &clean_eof)) {
+  if (!reader.Next(&trailer)) {
     return loss("truncated before the trailer");
   }
   if (trailer.file_sha256() != Sha256(std::string_view(bytes).substr(0, before_trailer))) {
     return loss("file checksum mismatch");
   }
-  if (static_cast<std::size_t>(stream.ByteCount()) + kMagic.size() != bytes.size()) {
+  if (reader.offset() != bytes.size()) {
     return loss("unexpected bytes after the trailer");
   }
   return file;

@@ -1,12 +1,13 @@
 // Checkpoint files: crash-safe writing and verified reading (proto/seep/v1/checkpoint.proto has
 // the layout). The solver state is opaque bytes here; what goes into it is the solver's business.
 //
-// Writing is atomic: the file is written as <path>.tmp in the same directory, fsync'ed, renamed
-// over <path>, and the directory is fsync'ed, so after a crash <path> is either the old file or
-// the complete new one. Reading verifies the magic, the format version, every chunk's SHA-256,
-// the chunk count and size, and the whole-file SHA-256: a truncated or corrupted file is
-// DATA_LOSS with the reason, a file from a newer format is FAILED_PRECONDITION. Which file a
-// resume or GetJobFields takes: jobs/newest_checkpoint.h.
+// Writing is atomic (store/durable_files.h): the file is written under a unique temporary name
+// in the same directory (mode 0600), fsync'ed, renamed over <path>, and the directory is fsync'ed,
+// so after a crash <path> is either the old file or the complete new one. Sizes and offsets are
+// 64-bit: a state over 2 GiB reads back like a small one. Reading verifies the magic, the format
+// version, every chunk's SHA-256, the chunk count and size, and the whole-file SHA-256: a truncated
+// or corrupted file is DATA_LOSS with the reason, a file from a newer format is
+// FAILED_PRECONDITION. Which file a resume or GetJobFields takes: jobs/newest_checkpoint.h.
 #pragma once
 
 #include <cstdint>

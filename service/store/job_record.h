@@ -77,10 +77,13 @@ struct JobRecord {
   std::optional<std::string> lease_owner;
   std::int64_t lease_epoch = 0;
   std::optional<std::int64_t> lease_expires_at_ms;
+  // key=value pairs given at submit, sorted by key (keys unique); validated by the service.
+  std::vector<std::pair<std::string, std::string>> labels;
 };
 
 // One checkpoint file of a job, as the store records it.
 struct CheckpointRecord {
+  std::string job_id;  // filled where records of several jobs travel together (retention)
   std::uint64_t step = 0;
   double time_s = 0.0;
   std::string path;
@@ -91,6 +94,7 @@ struct CheckpointRecord {
 
 // One line of a job's history: kind is a short word (CLAIMED, RESUMED, CHECKPOINT_SKIPPED, ...).
 struct JobEventRecord {
+  std::int64_t id = 0;  // grows with every event of any job: a cursor for paging
   std::int64_t at_ms = 0;
   std::string kind;
   std::string message;

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
+#include "job_store_internal.h"
 #include "sqlite_handle.h"
 
 namespace seep::service {
@@ -153,6 +155,27 @@ ALTER TABLE jobs ADD COLUMN interrupted_at_step INTEGER NOT NULL DEFAULT -1;
 ALTER TABLE jobs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0;
 CREATE INDEX jobs_queue ON jobs(state, priority DESC);  -- rowid is in every index
 )sql",
+    // v7: checkpoint paths relative to the data folder, so that it can be moved. Earlier seepd
+    // versions stored <data-dir>/checkpoints/<job>/ckpt-<step>.bin as they were given it
+    // (absolute or relative to seepd's working folder); every path of that layout becomes
+    // checkpoints/<job>/ckpt-<step>.bin. Any other path stays as it is and is read as before.
+    R"sql(
+UPDATE checkpoints SET path = substr(printf('/checkpoints/%s/ckpt-%012d.bin', job_id, step), 2)
+WHERE substr(path, -length(printf('/checkpoints/%s/ckpt-%012d.bin', job_id, step)))
+      = printf('/checkpoints/%s/ckpt-%012d.bin', job_id, step);
+)sql",
+    // v8: labels (key=value pairs given at submit, found again by ListJobs), and the finished
+    // jobs by age for the retention policy.
+    R"sql(
+CREATE TABLE job_labels (
+  job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  key TEXT NOT NULL,
+  value TEXT NOT NULL,
+  PRIMARY KEY (job_id, key)
+) STRICT;
+CREATE INDEX job_labels_by_pair ON job_labels(key, value);
+CREATE INDEX jobs_by_finished ON jobs(finished_at_ms) WHERE finished_at_ms IS NOT NULL;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -195,6 +218,28 @@ JobRecord ReadJobRow(const Stmt& s) {
 
 }  // namespace
 
+Status LeaseLost(const std::string& id, std::int64_t epoch) {
+  return core::Aborted(fmt::format(
+      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
+}
+
+std::int64_t StoreNowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+Status AddEventLocked(Db& db, std::string_view id, std::int64_t at_ms, std::string_view kind,
+                      std::string_view message) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db.Prepare("INSERT INTO events (job_id, at_ms, kind, message) SELECT id, ?, ?, ? "
+                         "FROM jobs WHERE id = ?"));
+  s.Bind(1, at_ms).Bind(2, kind).Bind(3, message).Bind(4, id);
+  SEEP_RETURN_IF_ERROR(s.Run());
+  if (db.Changes() != 1) return core::NotFound(fmt::format("job {} not found", id));
+  return Status::Ok();
+}
+
 Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& metrics,
                           std::string_view what) {
   for (const auto& [name, value] : metrics) {
@@ -207,21 +252,28 @@ Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& met
 }
 
 Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
+  const StoreOperation operation("open the database");
   SEEP_ASSIGN_OR_RETURN(Db db, Db::Open(path));
   // WAL for concurrent readers; FULL so that an acknowledged submit or a terminal state survives
   // power loss, not only a process crash.
   SEEP_RETURN_IF_ERROR(
       db.Exec("PRAGMA busy_timeout=5000; PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; "
               "PRAGMA foreign_keys=ON;"));
-  std::unique_ptr<JobStore> store(new JobStore(std::make_unique<Db>(std::move(db))));
+  std::error_code ec;
+  std::filesystem::path data_dir = std::filesystem::absolute(path, ec).lexically_normal();
+  data_dir = data_dir.has_parent_path() ? data_dir.parent_path() : data_dir;
+  std::unique_ptr<JobStore> store(
+      new JobStore(std::make_unique<Db>(std::move(db)), std::move(data_dir)));
   SEEP_RETURN_IF_ERROR(store->Migrate());
   return store;
 }
 
-JobStore::JobStore(std::unique_ptr<Db> db) : db_(std::move(db)) {}
+JobStore::JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir)
+    : db_(std::move(db)), data_dir_(std::move(data_dir)) {}
 JobStore::~JobStore() = default;
 
 Status JobStore::Migrate() {
+  const StoreOperation operation("migrate the schema");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt version_stmt, db_->Prepare("PRAGMA user_version"));
   SEEP_ASSIGN_OR_RETURN(const bool has_row, version_stmt.Step());
@@ -250,16 +302,19 @@ Result<std::optional<std::string>> JobStore::FindByRequestIdLocked(const std::st
 }
 
 Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
+  auto labels = job.labels;
+  std::sort(labels.begin(), labels.end());
+  const StoreOperation operation("insert job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   if (job.request_id) {
     SEEP_ASSIGN_OR_RETURN(const auto existing, FindByRequestIdLocked(*job.request_id));
     if (existing) {
       SEEP_ASSIGN_OR_RETURN(JobRecord found, GetLocked(*existing, /*with_scene=*/true));
-      if (found.scene != job.scene || found.kind != job.kind) {
-        return core::AlreadyExists(
-            fmt::format("request_id: '{}' was already used for job {} with a different scene",
-                        *job.request_id, found.id));
+      if (found.scene != job.scene || found.kind != job.kind || found.labels != labels) {
+        return core::AlreadyExists(fmt::format(
+            "request_id: '{}' was already used for job {} with a different scene or labels",
+            *job.request_id, found.id));
       }
       return InsertOutcome{std::move(found), false};
     }
@@ -277,8 +332,22 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
       .Bind(7, std::string_view(JobKindName(job.kind)))
       .Bind(8, static_cast<std::int64_t>(job.priority));
   SEEP_RETURN_IF_ERROR(s.Run());
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt label, db_->Prepare("INSERT INTO job_labels (job_id, key, value) VALUES (?, ?, ?)"));
+  for (const auto& [key, value] : labels) {
+    label.Reset();
+    label.Bind(1, std::string_view(job.id))
+        .Bind(2, std::string_view(key))
+        .Bind(3, std::string_view(value));
+    SEEP_RETURN_IF_ERROR(label.Run());
+  }
+  SEEP_RETURN_IF_ERROR(
+      AddEventLocked(*db_, job.id, job.created_at_ms, "SUBMITTED",
+                     fmt::format("{} job, priority {}, {} label(s)", JobKindName(job.kind),
+                                 job.priority, labels.size())));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   JobRecord stored = job;
+  stored.labels = std::move(labels);
   stored.state = JobState::kQueued;
   return InsertOutcome{std::move(stored), true};
 }
@@ -300,16 +369,37 @@ Result<JobRecord> JobStore::GetLocked(const std::string& id, bool with_scene) {
     job.metrics.emplace_back(m.ColumnText(0), m.ColumnDouble(1));
   }
   SEEP_RETURN_IF_ERROR(ReadResultSeriesLocked(job));
-  return job;
+  std::vector<JobRecord> one;
+  one.push_back(std::move(job));
+  SEEP_RETURN_IF_ERROR(ReadLabelsLocked(one));
+  return std::move(one.front());
+}
+
+Status JobStore::ReadLabelsLocked(std::vector<JobRecord>& jobs) {
+  SEEP_ASSIGN_OR_RETURN(
+      Stmt s, db_->Prepare("SELECT key, value FROM job_labels WHERE job_id = ? ORDER BY key"));
+  for (JobRecord& job : jobs) {
+    s.Reset();
+    s.Bind(1, std::string_view(job.id));
+    job.labels.clear();
+    for (;;) {
+      SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+      if (!row) break;
+      job.labels.emplace_back(s.ColumnText(0), s.ColumnText(1));
+    }
+  }
+  return Status::Ok();
 }
 
 Result<JobRecord> JobStore::Get(const std::string& id) {
+  const StoreOperation operation("get job");
   std::lock_guard lock(mutex_);
   return GetLocked(id, /*with_scene=*/true);
 }
 
 Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> cursor,
                                const JobFilter& filter) {
+  const StoreOperation operation("list jobs");
   std::lock_guard lock(mutex_);
   std::string where = "rowid < ?";
   if (!filter.states.empty()) {
@@ -323,6 +413,11 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
     for (std::size_t i = 0; i < filter.kinds.size(); ++i) where += i == 0 ? "?" : ", ?";
     where += ")";
   }
+  for (std::size_t i = 0; i < filter.labels.size(); ++i) {
+    where +=
+        " AND EXISTS (SELECT 1 FROM job_labels l WHERE l.job_id = jobs.id AND l.key = ? AND "
+        "l.value = ?)";
+  }
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE {} ORDER BY rowid DESC LIMIT ?",
                                        kJobColumns, where)));
@@ -333,6 +428,10 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
   }
   if (!filter.name_contains.empty()) s.Bind(index++, std::string_view(filter.name_contains));
   for (const JobKind kind : filter.kinds) s.Bind(index++, std::string_view(JobKindName(kind)));
+  for (const auto& [key, value] : filter.labels) {
+    s.Bind(index, std::string_view(key)).Bind(index + 1, std::string_view(value));
+    index += 2;
+  }
   s.Bind(index, static_cast<std::int64_t>(limit) + 1);
   JobPage page;
   std::int64_t last_rowid = 0;
@@ -346,12 +445,14 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
     last_rowid = s.ColumnInt(0);
     page.jobs.push_back(ReadJobRow(s));
   }
+  SEEP_RETURN_IF_ERROR(ReadLabelsLocked(page.jobs));
   return page;
 }
 
 Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& owner,
                                                            std::int64_t now_ms,
                                                            std::int64_t lease_ms) {
+  const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
@@ -371,15 +472,9 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& ow
   return std::optional<JobRecord>(std::move(job));
 }
 
-namespace {
-Status LeaseLost(const std::string& id, std::int64_t epoch) {
-  return core::Aborted(fmt::format(
-      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
-}
-}  // namespace
-
 Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
                                  std::int64_t expires_at_ms) {
+  const StoreOperation operation("renew a lease");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = ? WHERE id = ? AND lease_epoch = "
@@ -393,6 +488,7 @@ Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
 }
 
 Status JobStore::ReleaseLease(const std::string& id, std::int64_t epoch) {
+  const StoreOperation operation("release a lease");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = NULL WHERE id "
                                              "= ? AND lease_epoch = ? AND state = 'RUNNING'"));
@@ -404,6 +500,7 @@ Status JobStore::ReleaseLease(const std::string& id, std::int64_t epoch) {
 
 Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
                                 const JobProgress& progress) {
+  const StoreOperation operation("update progress");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("UPDATE jobs SET step = ?, time_s = ?, fraction_done = "
@@ -428,6 +525,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
         fmt::format("store: Finish needs a terminal state, got {}", JobStateName(state)));
   }
   SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(metrics, "store"));
+  const StoreOperation operation("finish job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
@@ -451,10 +549,16 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
     insert.Bind(1, std::string_view(id)).Bind(2, std::string_view(name)).Bind(3, value);
     SEEP_RETURN_IF_ERROR(insert.Run());
   }
+  const std::string outcome =
+      state == JobState::kSucceeded
+          ? fmt::format("{} metric(s) after {:.3f} s", metrics.size(), wall_time_s)
+          : fmt::format("{}: {}", error_code, error_message);
+  SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, now_ms, JobStateName(state), outcome));
   return tx.Commit();
 }
 
 Result<JobRecord> JobStore::Cancel(const std::string& id, std::int64_t now_ms) {
+  const StoreOperation operation("cancel job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(const JobRecord job, GetLocked(id, /*with_scene=*/false));
@@ -470,11 +574,15 @@ Result<JobRecord> JobStore::Cancel(const std::string& id, std::int64_t now_ms) {
                              "started' WHERE id = ? AND state = 'QUEUED'"));
     s.Bind(1, now_ms).Bind(2, std::string_view(id));
     SEEP_RETURN_IF_ERROR(s.Run());
+    SEEP_RETURN_IF_ERROR(
+        AddEventLocked(*db_, id, now_ms, "CANCELLED", "CANCELLED: cancelled before it started"));
   } else {
     SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("UPDATE jobs SET cancel_requested = 1 WHERE id = ? "
                                                "AND state = 'RUNNING'"));
     s.Bind(1, std::string_view(id));
     SEEP_RETURN_IF_ERROR(s.Run());
+    SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, now_ms, "CANCEL_REQUESTED",
+                                        fmt::format("at step {}", job.progress.step)));
   }
   SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
   SEEP_RETURN_IF_ERROR(tx.Commit());
@@ -482,6 +590,7 @@ Result<JobRecord> JobStore::Cancel(const std::string& id, std::int64_t now_ms) {
 }
 
 Result<JobRecord> JobStore::Resume(const std::string& id) {
+  const StoreOperation operation("resume job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(const JobRecord job, GetLocked(id, /*with_scene=*/false));
@@ -500,6 +609,9 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
   s.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_RETURN_IF_ERROR(ClearResultsLocked(id));
+  SEEP_RETURN_IF_ERROR(AddEventLocked(
+      *db_, id, StoreNowMs(), "RESUME_REQUESTED",
+      fmt::format("attempt {} queued (was {})", job.attempt + 1, JobStateName(job.state))));
   SEEP_ASSIGN_OR_RETURN(JobRecord now, GetLocked(id, /*with_scene=*/true));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return now;
@@ -515,19 +627,28 @@ Status JobStore::ClearResultsLocked(const std::string& id) {
   return Status::Ok();
 }
 
-Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
-                                    std::string_view cancel_message, int max_interruptions,
-                                    std::vector<CrashLoopFailure>* crash_loops) {
+Result<std::vector<std::string>> JobStore::RequeueLocked(
+    const char* where, const std::function<void(Stmt&, int)>& bind, std::string_view cancel_message,
+    int max_interruptions, std::vector<CrashLoopFailure>* crash_loops) {
   SEEP_ASSIGN_OR_RETURN(
       Stmt cancel,
       db_->Prepare(fmt::format(
           "UPDATE jobs SET state = 'CANCELLED', error_code = 'CANCELLED', error_message = ?, "
           "finished_at_ms = strftime('%s', 'now') * 1000, lease_expires_at_ms = NULL WHERE "
-          "state = 'RUNNING' AND cancel_requested = 1 AND {}",
+          "state = 'RUNNING' AND cancel_requested = 1 AND {} RETURNING id",
           where)));
   cancel.Bind(1, cancel_message);
   bind(cancel, 2);
-  SEEP_RETURN_IF_ERROR(cancel.Run());
+  std::vector<std::string> cancelled;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, cancel.Step());
+    if (!row) break;
+    cancelled.push_back(cancel.ColumnText(0));
+  }
+  for (const std::string& c : cancelled) {
+    SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, c, StoreNowMs(), "CANCELLED",
+                                        fmt::format("CANCELLED: {}", cancel_message)));
+  }
   // An unreleased lease is an interruption; without a newer checkpoint, one without progress.
   SEEP_ASSIGN_OR_RETURN(
       Stmt count,
@@ -560,39 +681,50 @@ Result<int> JobStore::RequeueLocked(const char* where, const std::function<void(
     failed.push_back({fail.ColumnText(0), fail.ColumnText(1)});
   }
   for (const CrashLoopFailure& f : failed) {
-    SEEP_ASSIGN_OR_RETURN(
-        Stmt event, db_->Prepare("INSERT INTO events (job_id, at_ms, kind, message) VALUES (?, "
-                                 "strftime('%s', 'now') * 1000, 'INTERRUPTED_TOO_OFTEN', ?)"));
-    event.Bind(1, std::string_view(f.id)).Bind(2, std::string_view(f.message));
-    SEEP_RETURN_IF_ERROR(event.Run());
+    SEEP_RETURN_IF_ERROR(
+        AddEventLocked(*db_, f.id, StoreNowMs(), "INTERRUPTED_TOO_OFTEN", f.message));
   }
   if (crash_loops != nullptr) crash_loops->insert(crash_loops->end(), failed.begin(), failed.end());
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format(
                   "UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
-                  "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {}",
+                  "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {} "
+                  "RETURNING id",
                   where)));
   bind(s, 1);
-  SEEP_RETURN_IF_ERROR(s.Run());
-  return static_cast<int>(db_->Changes());
+  std::vector<std::string> queued;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+    if (!row) break;
+    queued.push_back(s.ColumnText(0));
+  }
+  return queued;
 }
 
 Result<int> JobStore::RequeueRunning(const std::string& current_owner, int max_interruptions,
                                      std::vector<CrashLoopFailure>* crash_loops) {
+  const StoreOperation operation("requeue interrupted jobs");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   // A cancel that was pending when the previous process stopped is honoured now.
   SEEP_ASSIGN_OR_RETURN(
-      const int n, RequeueLocked(
-                       "lease_owner IS NOT ?",
-                       [&](Stmt& s, int index) { s.Bind(index, std::string_view(current_owner)); },
-                       "cancelled while seepd was stopped", max_interruptions, crash_loops));
+      const std::vector<std::string> queued,
+      RequeueLocked(
+          "lease_owner IS NOT ?",
+          [&](Stmt& s, int index) { s.Bind(index, std::string_view(current_owner)); },
+          "cancelled while seepd was stopped", max_interruptions, crash_loops));
+  for (const std::string& id : queued) {
+    SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, StoreNowMs(), "RECOVERED",
+                                        "queued again at seepd start (it was running when the "
+                                        "previous seepd stopped)"));
+  }
   SEEP_RETURN_IF_ERROR(tx.Commit());
-  return n;
+  return static_cast<int>(queued.size());
 }
 
 Result<std::vector<JobRecord>> JobStore::RequeueExpired(
     std::int64_t now_ms, int max_interruptions, std::vector<CrashLoopFailure>* crash_loops) {
+  const StoreOperation operation("rescue expired leases");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   constexpr const char* kExpired = "lease_expires_at_ms < ?";

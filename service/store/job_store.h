@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -34,6 +35,27 @@ struct JobFilter {
   std::vector<JobState> states;
   std::string name_contains;
   std::vector<JobKind> kinds;
+  std::vector<std::pair<std::string, std::string>> labels;  // the job carries every one
+};
+
+// What ApplyRetention removes; a zero member removes nothing.
+struct RetentionPolicy {
+  // Finished (terminal) jobs older than this, counted from when they finished, are deleted.
+  std::int64_t max_age_ms = 0;
+  // While the checkpoint files of all jobs together are larger, checkpoints of finished jobs are
+  // removed: first every one that is not its job's newest, then the newest ones (a finished job's
+  // final state), the oldest first in each group. A QUEUED or RUNNING job's checkpoints are never
+  // removed, so the budget can be exceeded by them alone.
+  std::int64_t max_checkpoint_bytes = 0;
+};
+
+struct RetentionOutcome {
+  std::vector<std::string> deleted_jobs;
+  // Every checkpoint record removed (of the deleted jobs, and those over the budget), with
+  // job_id and its resolved path: the caller removes the files.
+  std::vector<CheckpointRecord> removed_checkpoints;
+  int checkpoints_over_budget = 0;  // how many of them went for the byte budget
+  std::int64_t checkpoint_bytes_left = 0;
 };
 
 // OK when every metric is a finite number; else INVALID_ARGUMENT naming the first one that is not
@@ -54,12 +76,15 @@ struct CrashLoopFailure {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 6;
+  static constexpr int kSchemaVersion = 8;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
 
+  // The folder holding the database is the data folder: checkpoint paths inside it are stored
+  // relative to it, so the folder can be moved (see RecordCheckpoint).
   static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
+  const std::filesystem::path& data_dir() const { return data_dir_; }
 
   // Stores a new QUEUED job; with a request_id already present, returns that job instead.
   Result<InsertOutcome> Insert(const JobRecord& job);
@@ -91,24 +116,39 @@ class JobStore {
   // FAILED or CANCELLED -> QUEUED as the next attempt, its outcome cleared; other states ->
   // FAILED_PRECONDITION; unknown -> NOT_FOUND. Returns the job as it is now.
   Result<JobRecord> Resume(const std::string& id);
+  // Removes a finished job and everything kept of it (job_store_retention.cc), in one
+  // transaction; a QUEUED or RUNNING job is FAILED_PRECONDITION naming its state, an unknown one
+  // NOT_FOUND. Returns its checkpoint records (resolved paths): the caller removes the files.
+  Result<std::vector<CheckpointRecord>> Delete(const std::string& id);
+  // Applies the policy as of now_ms, in one transaction (job_store_retention.cc); each job that
+  // keeps its record but loses checkpoints gets a CHECKPOINTS_RETAINED event.
+  Result<RetentionOutcome> ApplyRetention(const RetentionPolicy& policy, std::int64_t now_ms);
 
   // Checkpoint files of a job (job_store_checkpoints.cc). Record is fenced by the lease epoch;
   // it replaces a record of the same step and returns the records beyond the newest `keep`,
-  // already removed from the store, whose files the caller deletes.
+  // already removed from the store, whose files the caller deletes. A path inside the data
+  // folder is stored relative to it (elsewhere: absolute); every record the store returns has
+  // its path resolved against the data folder as it is now, absolute and normalized.
   Result<std::vector<CheckpointRecord>> RecordCheckpoint(const std::string& id, std::int64_t epoch,
                                                          const CheckpointRecord& checkpoint,
                                                          std::uint32_t keep);
   // Newest (highest step) first.
   Result<std::vector<CheckpointRecord>> ListCheckpoints(const std::string& id);
+  // The resolved path of every recorded checkpoint file of every job (for the start-up sweep).
+  Result<std::vector<std::filesystem::path>> AllCheckpointPaths();
   // The time series and final-state hash of a run that succeeded, fenced by the lease epoch;
   // stored before Finish so that a job is never SUCCEEDED without them.
   Status StoreResultSeries(const std::string& id, std::int64_t epoch,
                            const std::vector<std::string>& columns,
                            const std::vector<double>& values, const std::string& state_sha256);
-  // The job's event log, oldest first. Adding to a job that does not exist is NOT_FOUND.
+  // The job's event log, oldest first (the store adds SUBMITTED, CHECKPOINT, the outcome and
+  // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
                   const std::string& message);
-  Result<std::vector<JobEventRecord>> ListEvents(const std::string& id);
+  // The job's events after the event `after_id` (0: from the first), at most `limit`; an unknown
+  // job is NOT_FOUND.
+  Result<std::vector<JobEventRecord>> ListEvents(const std::string& id, std::int64_t after_id = 0,
+                                                 std::uint32_t limit = UINT32_MAX);
 
   // Calibration records (job_store_calibrations.cc). Record replaces every record and tag of
   // the job (a re-run after a restart writes the same rows again), fenced by the lease epoch;
@@ -152,23 +192,30 @@ class JobStore {
   Status ReleaseLease(const std::string& id, std::int64_t epoch);
 
  private:
-  explicit JobStore(std::unique_ptr<Db> db);
+  JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir);
+  // A checkpoint path as stored (relative inside the data folder) and as returned (resolved).
+  std::string StoredCheckpointPath(const std::string& path) const;
+  std::filesystem::path ResolvedCheckpointPath(const std::string& stored) const;
   Status Migrate();
   Result<JobRecord> GetLocked(const std::string& id, bool with_scene);
+  Status ReadLabelsLocked(std::vector<JobRecord>& jobs);
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
   Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
   // Removes what a run of the job produced (metrics, series, calibration records and tags).
   Status ClearResultsLocked(const std::string& id);
   // RUNNING jobs matching `where` (its one parameter bound by `bind(statement, index)`) go back
-  // to QUEUED, or to CANCELLED with `cancel_message` when a cancel was pending; returns how
-  // many were queued.
-  Result<int> RequeueLocked(const char* where, const std::function<void(Stmt&, int)>& bind,
-                            std::string_view cancel_message, int max_interruptions,
-                            std::vector<CrashLoopFailure>* crash_loops);
+  // to QUEUED, or to CANCELLED with `cancel_message` (and a CANCELLED event) when a cancel was
+  // pending; returns the ids of those queued.
+  Result<std::vector<std::string>> RequeueLocked(const char* where,
+                                                 const std::function<void(Stmt&, int)>& bind,
+                                                 std::string_view cancel_message,
+                                                 int max_interruptions,
+                                                 std::vector<CrashLoopFailure>* crash_loops);
 
   std::mutex mutex_;
   std::unique_ptr<Db> db_;
+  std::filesystem::path data_dir_;  // absolute, normalized
 };
 
 }  // namespace seep::service

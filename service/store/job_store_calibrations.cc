@@ -6,6 +6,7 @@
 
 #include "calibration_lookup.h"
 #include "job_store.h"
+#include "job_store_internal.h"
 #include "sqlite_handle.h"
 
 namespace seep::service {
@@ -135,11 +136,6 @@ StoredCalibration ReadCalibration(const Stmt& s) {
   return c;
 }
 
-Status LeaseLostForCalibrations(const std::string& id, std::int64_t epoch) {
-  return core::Aborted(fmt::format(
-      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
-}
-
 }  // namespace
 
 Status JobStore::RecordCalibrations(const std::string& id, std::int64_t epoch,
@@ -151,6 +147,7 @@ Status JobStore::RecordCalibrations(const std::string& id, std::int64_t epoch,
           "store: a calibration record of job {} names job '{}'; they must match", id, c.job_id));
     }
   }
+  const StoreOperation operation("record calibrations");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   {
@@ -159,7 +156,7 @@ Status JobStore::RecordCalibrations(const std::string& id, std::int64_t epoch,
                                  "'RUNNING'"));
     lease.Bind(1, std::string_view(id)).Bind(2, epoch);
     SEEP_ASSIGN_OR_RETURN(const bool row, lease.Step());
-    if (!row) return LeaseLostForCalibrations(id, epoch);
+    if (!row) return LeaseLost(id, epoch);
   }
   for (const char* table : {"calibrations", "calibration_tags"}) {
     SEEP_ASSIGN_OR_RETURN(Stmt clear,
@@ -237,6 +234,7 @@ Result<CalibrationPage> JobStore::ListCalibrations(std::uint32_t limit,
     where += ")) = ?";
   }
 
+  const StoreOperation operation("list calibrations");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare(fmt::format("SELECT c.id, {} FROM calibrations c "
                                                          "WHERE {} ORDER BY c.id DESC LIMIT ?",
@@ -274,6 +272,7 @@ Result<std::vector<CalibrationNeighbour>> JobStore::NearestCalibrations(
     const CalibrationProbe& probe, std::uint32_t limit) {
   std::vector<CalibrationNeighbour> all;
   {
+    const StoreOperation operation("look up calibrations");
     std::lock_guard lock(mutex_);
     SEEP_ASSIGN_OR_RETURN(
         Stmt s, db_->Prepare(fmt::format(
@@ -297,6 +296,7 @@ Result<std::vector<CalibrationNeighbour>> JobStore::NearestCalibrations(
   kept.reserve(all.size());
   for (auto& n : all) kept.push_back(std::move(n.calibration));
   {
+    const StoreOperation operation("look up calibrations");
     std::lock_guard lock(mutex_);
     SEEP_RETURN_IF_ERROR(ReadCalibrationTagsLocked(kept));
   }
@@ -306,6 +306,7 @@ Result<std::vector<CalibrationNeighbour>> JobStore::NearestCalibrations(
 
 Result<std::vector<StoredCalibration>> JobStore::CalibrationsOfSetup(
     const std::string& scene_sha256) {
+  const StoreOperation operation("read calibrations of a setup");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format("SELECT id, {} FROM calibrations WHERE scene_sha256 = ? "

@@ -1,18 +1,16 @@
 // JobStore: checkpoint records, result series and the per-job event log (schema v3).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <climits>
 #include <cstring>
 
 #include "job_store.h"
+#include "job_store_internal.h"
 #include "sqlite_handle.h"
 
 namespace seep::service {
 namespace {
-
-Status LeaseLostForWrite(const std::string& id, std::int64_t epoch) {
-  return core::Aborted(fmt::format(
-      "store: job {} is no longer running under lease epoch {}; this worker must stop", id, epoch));
-}
 
 // The columns of a time series travel as one text, separated by commas (names never hold one).
 std::string JoinColumns(const std::vector<std::string>& columns) {
@@ -57,15 +55,31 @@ Status CheckLease(Db& db, const std::string& id, std::int64_t epoch) {
                          "'RUNNING'"));
   s.Bind(1, std::string_view(id)).Bind(2, epoch);
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
-  if (!row) return LeaseLostForWrite(id, epoch);
+  if (!row) return LeaseLost(id, epoch);
   return Status::Ok();
 }
+
+}  // namespace
+
+std::string JobStore::StoredCheckpointPath(const std::string& path) const {
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec).lexically_normal();
+  const std::filesystem::path relative = absolute.lexically_relative(data_dir_);
+  if (relative.empty() || *relative.begin() == "..") return absolute.string();
+  return relative.string();
+}
+
+std::filesystem::path JobStore::ResolvedCheckpointPath(const std::string& stored) const {
+  return (data_dir_ / stored).lexically_normal();  // an absolute `stored` stays itself
+}
+
+namespace {
 
 CheckpointRecord ReadCheckpointRow(const Stmt& s) {
   CheckpointRecord c;
   c.step = static_cast<std::uint64_t>(s.ColumnInt(0));
   c.time_s = s.ColumnDouble(1);
-  c.path = s.ColumnText(2);
+  c.path = s.ColumnText(2);  // as stored: the caller resolves it
   c.bytes = s.ColumnInt(3);
   c.attempt = static_cast<std::uint32_t>(s.ColumnInt(4));
   c.created_at_ms = s.ColumnInt(5);
@@ -80,6 +94,7 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
                                                                  std::int64_t epoch,
                                                                  const CheckpointRecord& checkpoint,
                                                                  std::uint32_t keep) {
+  const StoreOperation operation("record checkpoint");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
@@ -91,7 +106,7 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
   insert.Bind(1, std::string_view(id))
       .Bind(2, static_cast<std::int64_t>(checkpoint.step))
       .Bind(3, checkpoint.time_s)
-      .Bind(4, std::string_view(checkpoint.path))
+      .Bind(4, std::string_view(StoredCheckpointPath(checkpoint.path)))
       .Bind(5, checkpoint.bytes)
       .Bind(6, static_cast<std::int64_t>(checkpoint.attempt))
       .Bind(7, checkpoint.created_at_ms);
@@ -110,12 +125,18 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
     SEEP_ASSIGN_OR_RETURN(const bool row, old.Step());
     if (!row) break;
     dropped.push_back(ReadCheckpointRow(old));
+    dropped.back().path = ResolvedCheckpointPath(dropped.back().path).string();
   }
+  SEEP_RETURN_IF_ERROR(
+      AddEventLocked(*db_, id, checkpoint.created_at_ms, "CHECKPOINT",
+                     fmt::format("step {} (t = {} s), {} bytes, attempt {}", checkpoint.step,
+                                 checkpoint.time_s, checkpoint.bytes, checkpoint.attempt)));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return dropped;
 }
 
 Result<std::vector<CheckpointRecord>> JobStore::ListCheckpoints(const std::string& id) {
+  const StoreOperation operation("list checkpoints");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(
       Stmt s,
@@ -127,6 +148,20 @@ Result<std::vector<CheckpointRecord>> JobStore::ListCheckpoints(const std::strin
     SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
     if (!row) break;
     out.push_back(ReadCheckpointRow(s));
+    out.back().path = ResolvedCheckpointPath(out.back().path).string();
+  }
+  return out;
+}
+
+Result<std::vector<std::filesystem::path>> JobStore::AllCheckpointPaths() {
+  const StoreOperation operation("list checkpoint files");
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("SELECT path FROM checkpoints"));
+  std::vector<std::filesystem::path> out;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
+    if (!row) break;
+    out.push_back(ResolvedCheckpointPath(s.ColumnText(0)));
   }
   return out;
 }
@@ -141,6 +176,7 @@ Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
           fmt::format("store: series column '{}' must be non-empty and hold no comma", c));
     }
   }
+  const StoreOperation operation("store result series");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
@@ -171,29 +207,30 @@ Status JobStore::ReadResultSeriesLocked(JobRecord& job) {
 
 Status JobStore::AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
                           const std::string& message) {
+  const StoreOperation operation("add event");
   std::lock_guard lock(mutex_);
-  SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("INSERT INTO events (job_id, at_ms, kind, message) SELECT id, ?, ?, ? "
-                           "FROM jobs WHERE id = ?"));
-  s.Bind(1, at_ms)
-      .Bind(2, std::string_view(kind))
-      .Bind(3, std::string_view(message))
-      .Bind(4, std::string_view(id));
-  SEEP_RETURN_IF_ERROR(s.Run());
-  if (db_->Changes() != 1) return core::NotFound(fmt::format("job {} not found", id));
-  return Status::Ok();
+  return AddEventLocked(*db_, id, at_ms, kind, message);
 }
 
-Result<std::vector<JobEventRecord>> JobStore::ListEvents(const std::string& id) {
+Result<std::vector<JobEventRecord>> JobStore::ListEvents(const std::string& id,
+                                                         std::int64_t after_id,
+                                                         std::uint32_t limit) {
+  const StoreOperation operation("list events");
   std::lock_guard lock(mutex_);
-  SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare("SELECT at_ms, kind, message FROM events WHERE job_id = ? ORDER BY id"));
-  s.Bind(1, std::string_view(id));
+  SEEP_ASSIGN_OR_RETURN(Stmt known, db_->Prepare("SELECT 1 FROM jobs WHERE id = ?"));
+  known.Bind(1, std::string_view(id));
+  SEEP_ASSIGN_OR_RETURN(const bool exists, known.Step());
+  if (!exists) return core::NotFound(fmt::format("job {} not found", id));
+  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("SELECT id, at_ms, kind, message FROM events WHERE "
+                                             "job_id = ? AND id > ? ORDER BY id LIMIT ?"));
+  s.Bind(1, std::string_view(id))
+      .Bind(2, after_id)
+      .Bind(3, static_cast<std::int64_t>(std::min<std::uint32_t>(limit, INT32_MAX)));
   std::vector<JobEventRecord> out;
   for (;;) {
     SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
     if (!row) break;
-    out.push_back({s.ColumnInt(0), s.ColumnText(1), s.ColumnText(2)});
+    out.push_back({s.ColumnInt(0), s.ColumnInt(1), s.ColumnText(2), s.ColumnText(3)});
   }
   return out;
 }

@@ -2,18 +2,34 @@
 
 #include <fmt/format.h>
 
+#include "seep/core/log.h"
+
 namespace seep::service {
 namespace {
 
-Status SqliteError(sqlite3* db, int rc, std::string_view what) {
+thread_local const char* t_operation = nullptr;
+
+// The full story (SQLite's message, the statement) goes to the log; the Status names the
+// operation and the kind of failure only.
+Status SqliteError(sqlite3* db, int rc, std::string_view what, std::string_view sql = {}) {
   const char* detail = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  const char* operation = StoreOperation::Current();
+  core::Logger()->error("store: {} failed in {}: {} (sqlite code {}){}{}", operation, what, detail,
+                        rc, sql.empty() ? "" : "; statement: ", sql);
   const auto code = (rc == SQLITE_BUSY || rc == SQLITE_LOCKED)      ? core::StatusCode::kUnavailable
                     : (rc == SQLITE_CORRUPT || rc == SQLITE_NOTADB) ? core::StatusCode::kDataLoss
                                                                     : core::StatusCode::kInternal;
-  return {code, fmt::format("store: {}: {} (sqlite code {})", what, detail, rc)};
+  return {code, fmt::format("store: {} failed: {} (sqlite code {}; details in seepd's log)",
+                            operation, sqlite3_errstr(rc), rc)};
 }
 
 }  // namespace
+
+StoreOperation::StoreOperation(const char* name) : previous_(t_operation) { t_operation = name; }
+StoreOperation::~StoreOperation() { t_operation = previous_; }
+const char* StoreOperation::Current() {
+  return t_operation != nullptr ? t_operation : "database access";
+}
 
 Stmt& Stmt::Bind(int index, std::int64_t value) {
   if (bind_error_ == SQLITE_OK) bind_error_ = sqlite3_bind_int64(stmt_.get(), index, value);
@@ -52,11 +68,13 @@ void Stmt::Reset() {
 }
 
 Result<bool> Stmt::Step() {
-  if (bind_error_ != SQLITE_OK) return SqliteError(db_, bind_error_, "bind");
+  if (bind_error_ != SQLITE_OK) {
+    return SqliteError(db_, bind_error_, "bind", sqlite3_sql(stmt_.get()));
+  }
   const int rc = sqlite3_step(stmt_.get());
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
-  return SqliteError(db_, rc, sqlite3_sql(stmt_.get()));
+  return SqliteError(db_, rc, "step", sqlite3_sql(stmt_.get()));
 }
 
 Status Stmt::Run() {
@@ -101,14 +119,14 @@ Result<Stmt> Db::Prepare(std::string_view sql) {
       sqlite3_prepare_v2(db_.get(), sql.data(), static_cast<int>(sql.size()), &raw, nullptr);
   if (rc != SQLITE_OK) {
     sqlite3_finalize(raw);
-    return SqliteError(db_.get(), rc, "prepare");
+    return SqliteError(db_.get(), rc, "prepare", sql);
   }
   return Stmt(db_.get(), raw);
 }
 
 Status Db::Exec(const std::string& sql) {
   const int rc = sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr);
-  if (rc != SQLITE_OK) return SqliteError(db_.get(), rc, "exec");
+  if (rc != SQLITE_OK) return SqliteError(db_.get(), rc, "exec", sql);
   return Status::Ok();
 }
 

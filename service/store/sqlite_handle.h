@@ -1,5 +1,10 @@
 // RAII around the SQLite C API: a connection (Db), a prepared statement (Stmt) and an immediate
 // write transaction (WriteTx). Errors come back as Status; destructors never throw.
+//
+// An error's Status never carries SQL text or SQLite's own message (which names tables and
+// columns): those go to the log, and the Status says which store operation failed (the
+// StoreOperation running on the thread) with SQLite's generic text for the code. Store errors
+// reach clients (RPC errors, a job's error message), the schema is not theirs to see.
 #pragma once
 
 #include <sqlite3.h>
@@ -16,6 +21,20 @@ namespace seep::service {
 
 using core::Result;
 using core::Status;
+
+// Names the store operation running on this thread ("insert job", "list jobs") for the errors
+// raised while it lasts; nested ones restore the outer name.
+class StoreOperation {
+ public:
+  explicit StoreOperation(const char* name);
+  ~StoreOperation();
+  StoreOperation(const StoreOperation&) = delete;
+  StoreOperation& operator=(const StoreOperation&) = delete;
+  static const char* Current();  // "database access" outside any
+
+ private:
+  const char* previous_;
+};
 
 class Stmt {
  public:

@@ -10,7 +10,7 @@ using CliExitCodes = SeepdFixture;
 
 TEST_F(CliExitCodes, MissingJobIs5ForEveryJobCommand) {
   const std::string missing = "j-0000000000000000";
-  for (const char* command : {"show", "watch", "result", "cancel", "resume"}) {
+  for (const char* command : {"show", "watch", "result", "cancel", "resume", "delete", "events"}) {
     SCOPED_TRACE(command);
     const CommandResult run = Seep({command, missing});
     EXPECT_EQ(run.exit_code, 5) << run.output;
@@ -23,8 +23,9 @@ TEST_F(CliExitCodes, UnreachableServerIs14ForEveryCommand) {
   ASSERT_EQ(server_.Stop(SIGTERM), 0);  // nothing listens on the port any more
   const std::string scene = Example("darcy_square_lattice.textproto");
   const std::vector<std::vector<std::string>> commands = {
-      {"list"},          {"show", "j-1"},   {"watch", "j-1"}, {"result", "j-1"}, {"cancel", "j-1"},
-      {"resume", "j-1"}, {"submit", scene}, {"health"},       {"calibrations"}};
+      {"list"},          {"show", "j-1"},   {"watch", "j-1"},  {"result", "j-1"},
+      {"cancel", "j-1"}, {"resume", "j-1"}, {"submit", scene}, {"health"},
+      {"calibrations"},  {"delete", "j-1"}, {"events", "j-1"}};
   for (auto args : commands) {
     SCOPED_TRACE(args[0]);
     args.insert(args.begin(), {"--timeout", "2"});

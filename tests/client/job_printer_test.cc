@@ -53,6 +53,22 @@ TEST(ProgressBar, CalibrationCountsSolvesInsteadOfSimulatedTime) {
   EXPECT_EQ(line.find("t = "), std::string::npos) << line;
 }
 
+TEST(JobSummary, ShowsLabelsSortedByKeyAndAnEventAsOneLine) {
+  v1::Job job = RunningJob(0.5);
+  (*job.mutable_labels())["team"] = "flow";
+  (*job.mutable_labels())["owner"] = "ana";
+  EXPECT_NE(FormatJob(job).find("\nlabels    owner=ana,team=flow\n"), std::string::npos)
+      << FormatJob(job);
+  EXPECT_EQ(FormatJob(RunningJob(0.5)).find("labels"), std::string::npos);
+  v1::JobHistoryEvent event;
+  event.mutable_at()->set_seconds(1'700'000'000);
+  event.set_kind("RESUMED");
+  event.set_message("from ckpt-000000001000.bin at step 1000 of 4000");
+  EXPECT_EQ(FormatJobEvent(event),
+            "2023-11-14T22:13:20Z      RESUMED               from ckpt-000000001000.bin at step "
+            "1000 of 4000");
+}
+
 TEST(Duration, SecondsMinutesHours) {
   EXPECT_EQ(FormatDuration(0.2), "1 s");  // never "0 s" for work that is still left
   EXPECT_EQ(FormatDuration(42.4), "42 s");

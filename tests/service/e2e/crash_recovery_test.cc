@@ -87,11 +87,6 @@ v1::Scene ParseScene(std::string text) {
   return scene;
 }
 
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
-}
-
 class CrashRecovery : public GrpcSeepdTest {
  protected:
   CrashRecovery() : GrpcSeepdTest("e2e-crash") {}

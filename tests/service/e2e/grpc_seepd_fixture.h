@@ -2,6 +2,7 @@
 // stub: what the crash-recovery and self-healing e2e tests share.
 #pragma once
 
+#include <google/protobuf/text_format.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -9,6 +10,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
@@ -20,6 +22,36 @@
 #include "seep/v1/job_service.grpc.pb.h"
 
 namespace seep::testing {
+
+// An explicit transient on a square lattice: a few seconds of steps with progress all along
+// (1e-2 s of simulated time is a few thousand steps).
+inline v1::Scene LatticeScene(const std::string& name, double end_time_s) {
+  v1::Scene scene;
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(
+      R"pb(
+        packing { lattice { kind: LATTICE_KIND_SQUARE columns: 80 rows: 50 radius_m: 1e-3 } }
+        fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
+        aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
+        boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 }
+        solver { kind: SOLVER_KIND_EXPLICIT storage: STORAGE_VOLUME_PORE dt_factor: 0.9 }
+      )pb",
+      &scene));
+  scene.set_name(name);
+  scene.mutable_solver()->set_end_time_s(end_time_s);
+  return scene;
+}
+
+inline std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
+}
+
+// How many times `what` occurs in `text`.
+inline std::size_t Count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
 
 inline bool IsTerminalState(v1::JobState state) {
   return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
@@ -85,6 +117,20 @@ class GrpcSeepdTest : public ::testing::Test {
     const grpc::Status status = stub_->GetJob(&ctx, request, &response);
     EXPECT_TRUE(status.ok()) << status.error_message();
     return response.job();
+  }
+
+  // Polls the job until `done` holds for it or the timeout passes; returns it as last seen.
+  v1::Job WaitFor(const std::string& id, const std::function<bool(const v1::Job&)>& done,
+                  std::chrono::seconds timeout = std::chrono::seconds(240)) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      v1::Job job = Get(id);
+      if (done(job) || std::chrono::steady_clock::now() > deadline) return job;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  v1::Job WaitTerminal(const std::string& id) {
+    return WaitFor(id, [](const v1::Job& j) { return IsTerminalState(j.state()); });
   }
 
   // Polls until every job is terminal or the timeout passes; returns them by id.

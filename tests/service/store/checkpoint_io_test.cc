@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "test_support.h"
 
@@ -48,7 +51,12 @@ TEST_F(CheckpointIoTest, RoundTripsStateAndMetaAcrossChunks) {
   const auto path = dir_ / "ckpt-100.bin";
   const std::string state = State(2 * kCheckpointChunkBytes + 12345);  // three chunks
   ASSERT_TRUE(WriteCheckpointFile(path, Meta(100), state).ok());
-  EXPECT_FALSE(std::filesystem::exists(dir_ / "ckpt-100.bin.tmp"));
+  // Only the file itself, private to its owner: no temporary file left beside it.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_),
+                          std::filesystem::directory_iterator()),
+            1);
+  EXPECT_EQ(std::filesystem::status(path).permissions() & std::filesystem::perms::all,
+            std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
   auto read = ReadCheckpointFile(path);
   ASSERT_TRUE(read.ok()) << read.status().ToString();
   EXPECT_EQ(read->state, state);
@@ -68,6 +76,35 @@ TEST_F(CheckpointIoTest, EmptyStateAndOverwriteReplaceTheFile) {
   ASSERT_TRUE(read.ok()) << read.status().ToString();
   EXPECT_EQ(read->meta.step, 2u);
   EXPECT_TRUE(read->state.empty());
+}
+
+// Writers of the same checkpoint at once (a rescued job's hung worker waking up beside its new
+// one) never share a temporary file: every write succeeds and the file is one of them, whole.
+TEST_F(CheckpointIoTest, ConcurrentWritersOfOnePathNeverMixTheirBytes) {
+  const auto path = dir_ / "ckpt-7.bin";
+  std::vector<std::thread> writers;
+  std::atomic<int> failures{0};
+  for (int w = 0; w < 6; ++w) {
+    writers.emplace_back([&, w] {
+      const std::string state(kCheckpointChunkBytes + 1000 * static_cast<std::size_t>(w),
+                              static_cast<char>('a' + w));
+      for (int i = 0; i < 10; ++i) {
+        if (!WriteCheckpointFile(path, Meta(7), state).ok()) ++failures;
+      }
+    });
+  }
+  for (auto& t : writers) t.join();
+  EXPECT_EQ(failures.load(), 0);
+  auto read = ReadCheckpointFile(path);
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  const char fill = read->state.front();
+  ASSERT_GE(fill, 'a');
+  ASSERT_LE(fill, 'f');
+  EXPECT_EQ(read->state,
+            std::string(kCheckpointChunkBytes + 1000 * static_cast<std::size_t>(fill - 'a'), fill));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_),
+                          std::filesystem::directory_iterator()),
+            1);
 }
 
 TEST_F(CheckpointIoTest, Sha256MatchesTheStandardTestVector) {

@@ -6,45 +6,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "store/job_store_fixture.h"
+
 namespace seep::service {
 namespace {
-
-class JobStoreTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("seep-store-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-    path_ = (dir_ / "seep.db").string();
-    auto store = JobStore::Open(path_);
-    ASSERT_TRUE(store.ok()) << store.status().ToString();
-    store_ = std::move(*store);
-  }
-  void TearDown() override {
-    store_.reset();
-    std::filesystem::remove_all(dir_);
-  }
-
-  static JobRecord NewJob(const std::string& id, std::optional<std::string> request_id = {}) {
-    JobRecord job;
-    job.id = id;
-    job.name = "name-" + id;
-    job.request_id = std::move(request_id);
-    job.scene = std::string(
-        "\x0a\x03"
-        "abc",
-        5);
-    job.build_id = "test";
-    job.created_at_ms = 1000;
-    return job;
-  }
-
-  std::filesystem::path dir_;
-  std::string path_;
-  std::unique_ptr<JobStore> store_;
-};
 
 TEST_F(JobStoreTest, InsertThenGetRoundTrips) {
   auto inserted = store_->Insert(NewJob("a"));
@@ -454,38 +419,38 @@ TEST_F(JobStoreTest, ListFiltersByStateAndNameAndStillPages) {
   ASSERT_TRUE(store_->Cancel("alpha2", 1).ok());
   ASSERT_TRUE(store_->Cancel("beta3", 1).ok());
 
-  auto cancelled = store_->List(10, std::nullopt, {{JobState::kCancelled}, "", {}});
+  auto cancelled = store_->List(10, std::nullopt, {{JobState::kCancelled}, "", {}, {}});
   ASSERT_TRUE(cancelled.ok()) << cancelled.status().ToString();
   ASSERT_EQ(cancelled->jobs.size(), 2u);
   EXPECT_EQ(cancelled->jobs[0].id, "beta3");
   EXPECT_EQ(cancelled->jobs[1].id, "alpha2");
 
-  auto alpha = store_->List(10, std::nullopt, {{}, "alpha", {}});
+  auto alpha = store_->List(10, std::nullopt, {{}, "alpha", {}, {}});
   ASSERT_EQ(alpha->jobs.size(), 3u);
   EXPECT_EQ(alpha->jobs[0].id, "alpha4");
 
-  auto queued_alpha = store_->List(10, std::nullopt, {{JobState::kQueued}, "alpha", {}});
+  auto queued_alpha = store_->List(10, std::nullopt, {{JobState::kQueued}, "alpha", {}, {}});
   ASSERT_EQ(queued_alpha->jobs.size(), 2u);
   EXPECT_EQ(queued_alpha->jobs[0].id, "alpha4");
   EXPECT_EQ(queued_alpha->jobs[1].id, "alpha0");
 
   auto two_states =
-      store_->List(10, std::nullopt, {{JobState::kQueued, JobState::kCancelled}, "beta", {}});
+      store_->List(10, std::nullopt, {{JobState::kQueued, JobState::kCancelled}, "beta", {}, {}});
   ASSERT_EQ(two_states->jobs.size(), 2u);
 
   // Paging with a filter: one per page, newest first, then no cursor.
-  auto p1 = store_->List(1, std::nullopt, {{}, "alpha", {}});
+  auto p1 = store_->List(1, std::nullopt, {{}, "alpha", {}, {}});
   ASSERT_EQ(p1->jobs.size(), 1u);
   EXPECT_EQ(p1->jobs[0].id, "alpha4");
-  auto p2 = store_->List(1, p1->next_cursor, {{}, "alpha", {}});
+  auto p2 = store_->List(1, p1->next_cursor, {{}, "alpha", {}, {}});
   EXPECT_EQ(p2->jobs[0].id, "alpha2");
-  auto p3 = store_->List(1, p2->next_cursor, {{}, "alpha", {}});
+  auto p3 = store_->List(1, p2->next_cursor, {{}, "alpha", {}, {}});
   EXPECT_EQ(p3->jobs[0].id, "alpha0");
   EXPECT_FALSE(p3->next_cursor.has_value());
 
   // A pattern character is matched literally.
-  EXPECT_TRUE(store_->List(10, std::nullopt, {{}, "%", {}})->jobs.empty());
-  EXPECT_TRUE(store_->List(10, std::nullopt, {{JobState::kRunning}, "", {}})->jobs.empty());
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{}, "%", {}, {}})->jobs.empty());
+  EXPECT_TRUE(store_->List(10, std::nullopt, {{JobState::kRunning}, "", {}, {}})->jobs.empty());
 }
 
 TEST_F(JobStoreTest, MigratesAVersion1Database) {
@@ -532,7 +497,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 6);
+  EXPECT_EQ(JobStore::kSchemaVersion, 8);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }
@@ -599,10 +564,11 @@ TEST_F(JobStoreTest, EventsAreKeptInOrderPerJob) {
   EXPECT_EQ(store_->AddEvent("missing", 8, "X", "").code(), core::StatusCode::kNotFound);
   auto events = store_->ListEvents("a");
   ASSERT_TRUE(events.ok());
-  ASSERT_EQ(events->size(), 2u);
-  EXPECT_EQ((*events)[0].kind, "CLAIMED");
-  EXPECT_EQ((*events)[1].at_ms, 7);
-  EXPECT_EQ((*events)[1].message, "from step 40");
+  ASSERT_EQ(events->size(), 3u);
+  EXPECT_EQ((*events)[0].kind, "SUBMITTED");  // the store's own, at insert
+  EXPECT_EQ((*events)[1].kind, "CLAIMED");
+  EXPECT_EQ((*events)[2].at_ms, 7);
+  EXPECT_EQ((*events)[2].message, "from step 40");
 }
 
 }  // namespace
