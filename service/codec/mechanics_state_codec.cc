@@ -141,6 +141,8 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
                                          snapshot.apparent_volume.end());
   out->mutable_pore_volume()->Assign(snapshot.pore_volume.begin(), snapshot.pore_volume.end());
   out->mutable_aperture()->Assign(snapshot.aperture.begin(), snapshot.aperture.end());
+  out->mutable_pipe_head_offset()->Assign(snapshot.pipe_head_offset.begin(),
+                                          snapshot.pipe_head_offset.end());
   out->set_topology_version(snapshot.topology_version);
   EffectStatesToProto(snapshot.effects, out);
   ContactsToProto(snapshot.contacts, out->mutable_contacts());
@@ -172,6 +174,7 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
   snap.apparent_volume.assign(state.apparent_volume().begin(), state.apparent_volume().end());
   snap.pore_volume.assign(state.pore_volume().begin(), state.pore_volume().end());
   snap.aperture.assign(state.aperture().begin(), state.aperture().end());
+  snap.pipe_head_offset.assign(state.pipe_head_offset().begin(), state.pipe_head_offset().end());
   snap.topology_version = state.topology_version();
   snap.effects = EffectStatesFromProto(state);
   snap.contacts = ContactsFromProto(state.contacts());

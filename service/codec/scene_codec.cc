@@ -118,6 +118,9 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
 Result<core::BoundarySpec> BoundaryFromProto(const v1::Boundary& boundary) {
   core::BoundarySpec spec;
   spec.initial_pressure_pa = boundary.initial_pressure_pa();
+  spec.initial_pressure_hydrostatic = boundary.initial_pressure_hydrostatic();
+  spec.initial_pressure_x_m = boundary.initial_pressure_x_m();
+  spec.initial_pressure_y_m = boundary.initial_pressure_y_m();
   if (boundary.has_radial()) {
     if (boundary.axis() != v1::FLOW_AXIS_UNSPECIFIED) {
       return InvalidArgument(
@@ -176,7 +179,8 @@ Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
   spec.name = scene.name();
   SEEP_ASSIGN_OR_RETURN(spec.packing.source, PackingFromProto(scene.packing()));
   spec.packing.contact_gap_m = scene.packing().contact_gap_m();
-  spec.fluid = {scene.fluid().viscosity_pa_s(), scene.fluid().bulk_modulus_pa()};
+  spec.fluid = {scene.fluid().viscosity_pa_s(), scene.fluid().bulk_modulus_pa(),
+                scene.fluid().density_kg_m3()};
   spec.aperture = {scene.aperture().residual_aperture_m(), scene.aperture().reference_force_n(),
                    scene.aperture().gap_multiplier(), scene.aperture().max_aperture_m()};
   SEEP_ASSIGN_OR_RETURN(spec.boundary, BoundaryFromProto(scene.boundary()));

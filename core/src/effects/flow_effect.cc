@@ -24,6 +24,15 @@ Status CheckFinite(const FlowStepReport& r, const StepInfo& info) {
 
 }  // namespace
 
+Status FlowEffect::RefreshFluidWeight(LiveState& s) {
+  if (!weight_ || !s.has_network) return Status::Ok();
+  const ParticleView positions = s.moves() ? vertices_.Current(s) : ViewOf(s.net.packing);
+  SEEP_RETURN_IF_ERROR(ComputeNodeWeightPressures(s.net, positions, *weight_, &node_weight_));
+  return ApplyHeadOffsets(node_weight_, &s.net.flow);
+}
+
+Status FlowEffect::Rebind(LiveState& s) { return RefreshFluidWeight(s); }
+
 Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   const SceneSpec& scene = *s.scene;
   volume_change_ = effects.volume_change;
@@ -31,6 +40,11 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     mode_ = FlowMode::kSubCycled;
   } else {
     mode_ = scene.solver.kind == SolverKind::kSteady ? FlowMode::kSteady : FlowMode::kStepped;
+  }
+  weight_ = SceneFluidWeight(scene);
+  SEEP_RETURN_IF_ERROR(RefreshFluidWeight(s));
+  if (weight_ && s.has_network && scene.boundary.initial_pressure_hydrostatic) {
+    ApplyHydrostaticStart(scene, *weight_, node_weight_, &s.net.flow);
   }
   if (mode_ == FlowMode::kSteady) return Status::Ok();
   const StorageModel& storage = s.storage;
@@ -80,6 +94,8 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   // dV over the interval (moving particles with volume_change), else rigid.
   const std::span<const double> dv =
       volume_change_ != nullptr ? volume_change_->change() : std::span<const double>{};
+  // The centroids moved with the particles: the heads of this update are measured from here.
+  if (mode_ == FlowMode::kSubCycled) SEEP_RETURN_IF_ERROR(RefreshFluidWeight(s));
   if (mode_ == FlowMode::kSteady) {
     SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(s.net.flow));
     error = report.mass_balance_error;
@@ -137,7 +153,8 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
       (*m)["mass_balance_error_max"] = s.books.worst_error;
       break;
   }
-  effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_), m);
+  effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_),
+                                      node_weight_, m);
 }
 
 void FlowEffect::AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const {

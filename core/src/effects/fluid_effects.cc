@@ -8,6 +8,7 @@
 
 #include "../parallel_threshold.h"
 #include "effect_factories.h"
+#include "seep/core/coupling/buoyancy.h"
 #include "seep/core/coupling/contact_apertures.h"
 #include "seep/core/coupling/pressure_forces.h"
 #include "seep/core/effects/fluid_stable_step.h"
@@ -15,6 +16,7 @@
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/flow/time_step_limit.h"
 #include "seep/core/log.h"
+#include "seep/core/network/fluid_weight.h"
 
 namespace seep::core::effects_internal {
 namespace {
@@ -28,7 +30,10 @@ class FluidForcesEffect final : public Effect {
   FluidForcesEffect() : Effect(kEffectKind<FluidForcesEffectSpec>) {}
   std::uint32_t Hooks() const override { return kForceHook; }
 
-  Status Bind(LiveState& s, const EffectSet&) override { return Rebind(s); }
+  Status Bind(LiveState& s, const EffectSet&) override {
+    weight_ = SceneFluidWeight(*s.scene);
+    return Rebind(s);
+  }
 
   // Which reservoir node (or -1: an impermeable hull contact) each boundary pipe of the domain
   // network drains into, from the flow network's pipes past the interior ones.
@@ -70,7 +75,18 @@ class FluidForcesEffect final : public Effect {
   }
 
   Status AddForces(LiveState& s, const StepInfo&) override {
-    const auto pressure = s.net.flow.pressure();
+    std::span<const double> pressure = s.net.flow.pressure();
+    if (weight_) {
+      // The chord rule on the heads P - W, then Archimedes (coupling/buoyancy.h); the weights
+      // from this step's positions, as the chords are.
+      SEEP_RETURN_IF_ERROR(
+          ComputeNodeWeightPressures(s.net, vertices_.Current(s), *weight_, &node_weight_));
+      head_.resize(pressure.size());
+      for (std::size_t n = 0; n < pressure.size(); ++n) head_[n] = pressure[n] - node_weight_[n];
+      pressure = head_;
+      AddBuoyancy(CurrentView(s), weight_->x, weight_->y, s.particles.fx.data(),
+                  s.particles.fy.data());
+    }
     for (std::size_t k = 0; k < reservoir_of_boundary_pipe_.size(); ++k) {
       const std::int32_t node = reservoir_of_boundary_pipe_[k];
       boundary_pressure_[k] = node >= 0 ? pressure[static_cast<std::size_t>(node)]
@@ -141,6 +157,8 @@ class FluidForcesEffect final : public Effect {
   FluidVertices vertices_;
   std::vector<double> vertex_fx_, vertex_fy_;  // per wall vertex, the pressure force on it
   std::vector<WallPore> wall_pores_;
+  std::optional<FluidWeight> weight_;
+  std::vector<double> node_weight_, head_;  // per flow node, with fluid weight only
 };
 
 class ApertureUpdateEffect final : public Effect {

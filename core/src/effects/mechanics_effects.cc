@@ -93,6 +93,8 @@ class GravityEffect final : public EffectWithSpec<GravityEffectSpec> {
   using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kForceHook; }
   Status AddForces(LiveState& s, const StepInfo&) override {
+    // A frozen packing: gravity weighs the fluid alone (the flow effect's head offsets).
+    if (!s.moves()) return Status::Ok();
     AddGravity(&s.particles, spec_.gx_m_s2, spec_.gy_m_s2, &s.counters.dem);
     return Status::Ok();
   }

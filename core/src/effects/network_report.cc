@@ -30,13 +30,21 @@ std::optional<double> LatticePermeability(const SceneSpec& scene) {
   return lattice->kind == LatticeKind::kSquare ? k : k / std::sqrt(3.0);
 }
 
-void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m) {
+void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net,
+                     std::span<const double> node_weight, Metrics& m) {
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
   const double inflow = NodeInflow(fluxes, net.inlet_node);
   const double outflow = NodeOutflow(fluxes, net.outlet_node);
   m["inflow_m2_per_s"] = inflow;
   m["outflow_m2_per_s"] = outflow;
-  const double dp = scene.boundary.inlet_pressure_pa - scene.boundary.outlet_pressure_pa;
+  double dp = scene.boundary.inlet_pressure_pa - scene.boundary.outlet_pressure_pa;
+  if (!node_weight.empty()) {
+    // The drop of the head P - W that drives the flow (the pressure drop minus the weight of
+    // the fluid column between the two reservoirs' reference points).
+    dp -= node_weight[static_cast<std::size_t>(net.inlet_node)] -
+          node_weight[static_cast<std::size_t>(net.outlet_node)];
+    m["head_drop_pa"] = dp;
+  }
   if (const auto k = DarcyPermeability(scene.fluid.viscosity_pa_s, 0.5 * (inflow + outflow),
                                        net.length_m, net.width_m, dp);
       k.ok()) {
@@ -86,11 +94,12 @@ void AddNetworkSample(const SceneSpec& scene, const SceneNetwork& net, double st
 }
 
 void AddNetworkMetrics(const SceneSpec& scene, const SceneNetwork& net,
-                       std::span<const double> pore_volume, Metrics* m) {
+                       std::span<const double> pore_volume, std::span<const double> node_weight,
+                       Metrics* m) {
   if (scene.boundary.radial) {
     AddRadialMetrics(net, *m);
   } else {
-    AddDarcyMetrics(scene, net, *m);
+    AddDarcyMetrics(scene, net, node_weight, *m);
   }
   double pore = 0.0;
   double apparent = 0.0;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "seep/core/flow/pipe_head.h"
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/log.h"
 #include "step_input.h"
@@ -162,6 +163,14 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
       inflow_[d] = q_src[d];
     }
   }
+  // With fluid weight the accumulator starts every step at the head inflow (pipe_head.h) plus
+  // the sources; without, at the sources alone (the sweep itself is the same either way).
+  base_inflow_.clear();
+  if (network.has_head_offsets()) {
+    ComputeHeadInflow(network, &base_inflow_);
+    for (const std::int32_t s : sources_) base_inflow_[s] += q_src[s];
+    inflow_ = base_inflow_;
+  }
   gain_.assign(n, 0.0);
   gain_dt_ = -1.0;
   return Status::Ok();
@@ -253,8 +262,12 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
     UpdateDomainsWithVolumeChange(n, gain_.data(), volume_change.data(), inv_dt, inflow_.data(),
                                   pressure);
   }
-  // Re-arm the accumulator with the sources of the next step.
-  for (const std::int32_t s : sources_) inflow_[s] = network.source_rate()[s];
+  // Re-arm the accumulator with the sources (and the head inflow) of the next step.
+  if (!base_inflow_.empty()) {
+    std::copy(base_inflow_.begin(), base_inflow_.end(), inflow_.begin());
+  } else {
+    for (const std::int32_t s : sources_) inflow_[s] = network.source_rate()[s];
+  }
 
   if (options_.diagnostics &&
       !(std::isfinite(report.min_pressure) && std::isfinite(report.max_pressure))) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "seep/core/flow/pipe_head.h"
 #include "seep/core/flow/storage_volume.h"
 
 namespace seep::core {
@@ -14,7 +15,6 @@ BoundaryFluxes ComputeBoundaryFluxes(const FlowNetwork& network) {
   const auto pa = network.pipe_domain_a();
   const auto pb = network.pipe_domain_b();
   const auto c = network.pipe_conductance();
-  const auto pressure = network.pressure();
   std::vector<double> per_domain(nd, 0.0);
   std::vector<std::uint8_t> touched(nd, 0);
   for (std::size_t p = 0; p < c.size(); ++p) {
@@ -22,8 +22,8 @@ BoundaryFluxes ComputeBoundaryFluxes(const FlowNetwork& network) {
     const bool fb = role[pb[p]] == DomainRole::kFixedPressure;
     if (fa == fb) continue;
     const std::int32_t fixed = fa ? pa[p] : pb[p];
-    const std::int32_t inner = fa ? pb[p] : pa[p];
-    per_domain[fixed] += c[p] * (pressure[fixed] - pressure[inner]);
+    const double into_a = PipeInflowToA(network, p);  // the head included (pipe_head.h)
+    per_domain[fixed] += fa ? -into_a : into_a;
     touched[fixed] = 1;
   }
   BoundaryFluxes out;

@@ -55,6 +55,13 @@ Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
                          flow_internal::FormatNumber(v[static_cast<std::size_t>(i)]) + ")");
 }
 
+Status CheckFinite(const char* field, const std::vector<double>& v) {
+  const std::ptrdiff_t i = FirstFailing(v, [](double x) { return FiniteBranchFree(x); });
+  if (i < 0) return Status::Ok();
+  return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) + ": must be finite (got " +
+                         flow_internal::FormatNumber(v[static_cast<std::size_t>(i)]) + ")");
+}
+
 Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
   const std::ptrdiff_t i =
       FirstFailing(v, [](double x) { return FiniteBranchFree(x) & (x > 0.0); });
@@ -90,6 +97,10 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
   SEEP_RETURN_IF_ERROR(CheckSize("pipe_domain_b", d.pipe_domain_b.size(), np, "pipe"));
   SEEP_RETURN_IF_ERROR(CheckSize("pipe_length", d.pipe_length.size(), np, "pipe"));
   SEEP_RETURN_IF_ERROR(CheckSize("pipe_aperture", d.pipe_aperture.size(), np, "pipe"));
+  if (!d.pipe_head_offset.empty()) {
+    SEEP_RETURN_IF_ERROR(
+        CheckSize("pipe_head_offset", d.pipe_head_offset.size(), np, "pipe, or none"));
+  }
   if (nd > static_cast<std::size_t>(INT32_MAX)) {
     return InvalidArgument("flow.network: more than 2^31-1 domains");
   }
@@ -157,8 +168,22 @@ Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
   }
   SEEP_RETURN_IF_ERROR(CheckFinitePositive("pipe_length", d.pipe_length));
   SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pipe_aperture", d.pipe_aperture));
+  SEEP_RETURN_IF_ERROR(CheckFinite("pipe_head_offset", d.pipe_head_offset));
   // A zero conductance is a pipe that is not there; keeping it would hide a bug upstream.
   return CheckFinitePositive("pipe_conductance", d.pipe_conductance);
+}
+
+Status FlowNetwork::SetPipeHeadOffsets(std::span<const double> offset) {
+  if (!offset.empty() && offset.size() != num_pipes()) {
+    return InvalidArgument("flow.network.pipe_head_offset: has " + std::to_string(offset.size()) +
+                           " entries, expected " + std::to_string(num_pipes()) +
+                           " (one per pipe, or none)");
+  }
+  std::vector<double> values(offset.begin(), offset.end());
+  SEEP_RETURN_IF_ERROR(CheckFinite("pipe_head_offset", values));
+  data_.pipe_head_offset = std::move(values);
+  coefficient_version_ = NextFlowVersionStamp();
+  return Status::Ok();
 }
 
 std::span<double> FlowNetwork::mutable_pipe_conductance() {

@@ -10,6 +10,7 @@
 
 #include "pressure_system.h"
 #include "seep/core/flow/network_components.h"
+#include "seep/core/flow/pipe_head.h"
 #include "seep/core/flow/storage_volume.h"
 #include "step_input.h"
 
@@ -108,6 +109,17 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   const auto pa = network.pipe_domain_a();
   const auto pb = network.pipe_domain_b();
   const auto c = network.pipe_conductance();
+  // Fluid weight: the head part of each pipe's flow is constant over the step (pipe_head.h), so
+  // it enters the right-hand side only; for a pipe with one known end, the head offset as seen
+  // from its unknown end: q into u = C (P_known - P_u -/+ offset), - when u is the pipe's a.
+  const bool weight = network.has_head_offsets();
+  const auto offset = network.pipe_head_offset();
+  const auto boundary_drive = [&](std::int32_t p, std::int32_t known, std::int32_t unknown,
+                                  double increment) {
+    const double drive = pressure_old[known] - pressure_old[unknown] - increment;
+    if (!weight) return drive;
+    return drive + (unknown == pa[p] ? -offset[p] : offset[p]);
+  };
 
   // b = (F(P^n) + Q_src - dV/dt) / theta, F accumulated pipe by pipe in pipe order.
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(nu));
@@ -121,7 +133,8 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
     const int ua = unknown_of[pa[p]];
     const int ub = unknown_of[pb[p]];
     if (ua < 0 && ub < 0) continue;
-    const double q = c[p] * (pressure_old[pb[p]] - pressure_old[pa[p]]);  // a <- b
+    const double q = weight ? c[p] * (pressure_old[pb[p]] - pressure_old[pa[p]] - offset[p])
+                            : c[p] * (pressure_old[pb[p]] - pressure_old[pa[p]]);  // a <- b
     if (ua >= 0) rhs[ua] += q;
     if (ub >= 0) rhs[ub] -= q;
   }
@@ -149,7 +162,7 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
     const int u = ua >= 0 ? ua : unknown_of[pb[p]];
     const std::int32_t known = ua >= 0 ? pb[p] : pa[p];
     const std::int32_t k = component_of_unknown_[u];
-    residual[k] += c[p] * (pressure_old[known] - pressure_old[domain_of[u]] - theta * x[u]);
+    residual[k] += c[p] * boundary_drive(p, known, domain_of[u], theta * x[u]);
     denominator[k] += theta * c[p];
   }
   for (std::size_t u = 0; u < nu; ++u) {
@@ -185,7 +198,7 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
       const int ua = unknown_of[pa[p]];
       const int u = ua >= 0 ? ua : unknown_of[pb[p]];
       const std::int32_t known = ua >= 0 ? pb[p] : pa[p];
-      const double q = c[p] * (pressure_old[known] - pressure_old[domain_of[u]] - theta * x[u]);
+      const double q = c[p] * boundary_drive(p, known, domain_of[u], theta * x[u]);
       boundary += q;
       boundary_mag += std::abs(q);
     }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "pressure_system.h"
+#include "seep/core/flow/pipe_head.h"
 #include "seep/core/flow/storage_volume.h"
 #include "step_input.h"
 namespace seep::core {
@@ -97,6 +98,12 @@ Result<SteadyStateReport> SteadyStateSolver::Solve(FlowNetwork& network) {
 
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(nu));
   for (std::size_t u = 0; u < nu; ++u) rhs[static_cast<Eigen::Index>(u)] = q_src[domain_of[u]];
+  if (network.has_head_offsets()) {
+    // Fluid weight: the head part of the pipe flows is a known inflow per domain (pipe_head.h).
+    std::vector<double> head;
+    ComputeHeadInflow(network, &head);
+    for (std::size_t u = 0; u < nu; ++u) rhs[static_cast<Eigen::Index>(u)] += head[domain_of[u]];
+  }
   system_->AddKnownCoupling(network, rhs);
   Eigen::VectorXd x;
   SEEP_RETURN_IF_ERROR(system_->Solve(rhs, x));
@@ -132,13 +139,14 @@ Result<SteadyStateReport> SteadyStateSolver::Solve(FlowNetwork& network) {
     const bool fa = role[pa[p]] == DomainRole::kFixedPressure;
     const bool fb = role[pb[p]] == DomainRole::kFixedPressure;
     if (fa == fb) continue;
-    const double q = fa ? c[p] * (pressure[pa[p]] - pressure[pb[p]])
-                        : c[p] * (pressure[pb[p]] - pressure[pa[p]]);
+    const double into_a = PipeInflowToA(network, p);
+    const double q = fa ? -into_a : into_a;  // out of the fixed end into the network
     report.boundary_inflow += q;
     report.boundary_magnitude += std::abs(q);
     // Pressures resolved to a relative d move each boundary flow by up to d C (|P_a| + |P_b|):
     // without this term a state where nothing flows reports its noise relative to noise.
     carrying += c[p] * (std::abs(pressure[pa[p]]) + std::abs(pressure[pb[p]]));
+    if (network.has_head_offsets()) carrying += c[p] * std::abs(network.pipe_head_offset()[p]);
   }
   double src_mag = 0.0;
   for (std::size_t d = 0; d < nd; ++d) {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <string>
 
+#include "seep/core/flow/pipe_head.h"
 #include "seep/core/network/scene_walls.h"
 #include "seep/core/reference/analytic_solutions.h"
 
@@ -202,7 +203,7 @@ SceneFields CollectSceneFields(const Simulation& sim) {
     const std::int32_t b = flow.pipe_domain_b()[p];
     const auto ua = static_cast<std::size_t>(a);
     const auto ub = static_cast<std::size_t>(b);
-    f.pipe_flow[p] = flow.pipe_conductance()[p] * (flow.pressure()[ub] - flow.pressure()[ua]);
+    f.pipe_flow[p] = PipeInflowToA(flow, p);  // the head included when the fluid has weight
     const std::int32_t contact = net.pipe_contact[p];
     const auto c = static_cast<std::size_t>(contact);
     const bool through_wall = contact < 0;

@@ -112,6 +112,8 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
     out->apparent_volume.assign(apparent.begin(), apparent.end());
     out->pore_volume = ReportedPoreVolumes();
     out->aperture.assign(aperture.begin(), aperture.end());
+    const auto offset = s.net.flow.pipe_head_offset();
+    out->pipe_head_offset.assign(offset.begin(), offset.end());
   }
   out->topology_version = s.topology_version;
   for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
@@ -209,6 +211,11 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
     SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.apparent_volume", snap.apparent_volume));
     SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.pore_volume", snap.pore_volume));
     SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.aperture", snap.aperture));
+    if (!snap.pipe_head_offset.empty()) {
+      SEEP_RETURN_IF_ERROR(
+          CheckLength("pipe_head_offset", snap.pipe_head_offset.size(), net.flow.num_pipes()));
+      SEEP_RETURN_IF_ERROR(CheckFinite("mechanics.pipe_head_offset", snap.pipe_head_offset));
+    }
   }
   SEEP_RETURN_IF_ERROR(
       CheckPressures(pressure, s.has_network ? net.flow.num_domains() : s.net.flow.num_domains()));
@@ -242,6 +249,10 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
                   s.net.flow.pore_volume().begin())) {
     std::copy(snap.pore_volume.begin(), snap.pore_volume.end(),
               s.net.flow.mutable_pore_volume().begin());
+  }
+  // The heads as the run last measured them (the rebind measured them at the restored positions).
+  if (!snap.pipe_head_offset.empty()) {
+    SEEP_RETURN_IF_ERROR(s.net.flow.SetPipeHeadOffsets(snap.pipe_head_offset));
   }
   return Status::Ok();
 }

@@ -150,10 +150,16 @@ Status ValidateEffects(const SceneSpec& scene) {
                           std::holds_alternative<VolumeChangeEffectSpec>(e) ||
                           std::holds_alternative<ApertureUpdateEffectSpec>(e) ||
                           std::holds_alternative<RedetectionEffectSpec>(e);
-    if ((mechanical || coupling) && !mechanics) {
-      return InvalidArgument(
-          fmt::format("{}: requires the contacts effect (without it the particles do not move)",
-                      Field(k, e, "")));
+    // Gravity on a frozen packing weighs the fluid alone (the disks do not move).
+    const bool weighs_fluid_only =
+        std::holds_alternative<GravityEffectSpec>(e) && scene.fluid.density_kg_m3 > 0.0;
+    if ((mechanical || coupling) && !mechanics && !weighs_fluid_only) {
+      return InvalidArgument(fmt::format(
+          "{}: requires the contacts effect (without it the particles do not move){}",
+          Field(k, e, ""),
+          std::holds_alternative<GravityEffectSpec>(e)
+              ? "; on a frozen packing gravity can weigh the fluid: set fluid.density_kg_m3 > 0"
+              : ""));
     }
     if ((coupling || std::holds_alternative<InjectionEffectSpec>(e)) && !flow) {
       return InvalidArgument(fmt::format(

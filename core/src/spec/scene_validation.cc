@@ -5,6 +5,11 @@
 #include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
+
+bool HasFluidWeight(const SceneSpec& scene) {
+  return scene.fluid.density_kg_m3 > 0.0 && HasEffect<GravityEffectSpec>(scene);
+}
+
 namespace {
 
 // Largest packings a scene may generate or carry; a bound keeps a typo from exhausting memory.
@@ -129,6 +134,7 @@ Status ValidateScene(const SceneSpec& scene) {
   SEEP_RETURN_IF_ERROR(RequireNonNegative("packing.contact_gap_m", scene.packing.contact_gap_m));
   SEEP_RETURN_IF_ERROR(RequirePositive("fluid.viscosity_pa_s", scene.fluid.viscosity_pa_s));
   SEEP_RETURN_IF_ERROR(RequirePositive("fluid.bulk_modulus_pa", scene.fluid.bulk_modulus_pa));
+  SEEP_RETURN_IF_ERROR(RequireNonNegative("fluid.density_kg_m3", scene.fluid.density_kg_m3));
   SEEP_RETURN_IF_ERROR(
       RequirePositive("aperture.residual_aperture_m", scene.aperture.residual_aperture_m));
   SEEP_RETURN_IF_ERROR(
@@ -149,6 +155,16 @@ Status ValidateScene(const SceneSpec& scene) {
       RequireFinite("boundary.outlet_pressure_pa", scene.boundary.outlet_pressure_pa));
   SEEP_RETURN_IF_ERROR(
       RequireFinite("boundary.initial_pressure_pa", scene.boundary.initial_pressure_pa));
+  SEEP_RETURN_IF_ERROR(
+      RequireFinite("boundary.initial_pressure_x_m", scene.boundary.initial_pressure_x_m));
+  SEEP_RETURN_IF_ERROR(
+      RequireFinite("boundary.initial_pressure_y_m", scene.boundary.initial_pressure_y_m));
+  if (scene.boundary.initial_pressure_hydrostatic && !HasFluidWeight(scene)) {
+    return InvalidArgument(
+        "scene.boundary.initial_pressure_hydrostatic: needs a fluid with weight "
+        "(fluid.density_kg_m3 > 0 and a gravity effect); without it the initial pressure is "
+        "uniform anyway");
+  }
   if (const auto& radial = scene.boundary.radial) {
     SEEP_RETURN_IF_ERROR(RequirePositive("boundary.radial.well_radius_m", radial->well_radius_m));
     SEEP_RETURN_IF_ERROR(RequirePositive("boundary.radial.outer_radius_m", radial->outer_radius_m));

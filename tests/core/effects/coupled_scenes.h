@@ -15,6 +15,17 @@ inline constexpr double kRadius = 1e-3;          // m
 inline constexpr double kDensity = 2650.0;       // kg/m^3
 inline constexpr double kNormalStiffness = 1e7;  // N/m per m
 
+inline Simulation MustCreate(const SceneSpec& scene) {
+  Result<Simulation> sim = Simulation::Create(scene);
+  EXPECT_TRUE(sim.ok()) << sim.status().message();
+  return std::move(*sim);
+}
+
+inline void MustRun(Simulation& sim) {
+  const Status status = sim.Run({});
+  ASSERT_TRUE(status.ok()) << status.message();
+}
+
 inline ContactsEffectSpec Contacts() {
   ContactsEffectSpec c;
   c.law.kn = kNormalStiffness;

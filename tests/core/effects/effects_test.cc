@@ -17,18 +17,9 @@ namespace {
 
 using effects_test::BoxedLatticeScene;
 using effects_test::Contacts;
+using effects_test::MustCreate;
+using effects_test::MustRun;
 using effects_test::WithOpenEnds;
-
-Simulation MustCreate(const SceneSpec& scene) {
-  Result<Simulation> sim = Simulation::Create(scene);
-  EXPECT_TRUE(sim.ok()) << sim.status().message();
-  return std::move(*sim);
-}
-
-void MustRun(Simulation& sim) {
-  const Status status = sim.Run({});
-  ASSERT_TRUE(status.ok()) << status.message();
-}
 
 // Contacts and flow only: every counter of an unlisted effect stays zero, the listed ones work.
 TEST(Effects, UnlistedEffectsDoNoWork) {
@@ -119,7 +110,11 @@ TEST(Effects, BadListsNameTheEntryAndTheReason) {
   Status status = ValidateScene(scene);
   EXPECT_EQ(status.message(),
             "scene.effects[1].gravity: requires the contacts effect (without it the particles do "
-            "not move)");
+            "not move); on a frozen packing gravity can weigh the fluid: set fluid.density_kg_m3 "
+            "> 0");
+  scene.fluid.density_kg_m3 = 1000.0;  // then it weighs the fluid of the frozen packing
+  EXPECT_TRUE(ValidateScene(scene).ok()) << ValidateScene(scene).message();
+  scene.fluid.density_kg_m3 = 0.0;
   scene.effects = {Contacts(), GravityEffectSpec{}, GravityEffectSpec{}};
   EXPECT_EQ(ValidateScene(scene).message(),
             "scene.effects[2].gravity: listed twice (each effect at most once)");

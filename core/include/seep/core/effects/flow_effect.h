@@ -6,14 +6,23 @@
 //   kSubCycled  moving particles: one flow update per flow interval of `EverySteps` DEM steps,
 //               the explicit solver sub-cycled inside it, the implicit one in one step.
 // Either way the explicit governor allows dt_factor x dt_crit.
+//
+// Fluid weight (network/fluid_weight.h): the flow effect owns the head offsets of the pipes. It
+// sets them at Bind (and the hydrostatic start when the scene asks for it), after every
+// re-detection (Rebind), and on moving particles before every flow update, from the centroids
+// of that moment: one pass over the loops per update, nothing per DEM step.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <variant>
+#include <vector>
 
 #include "seep/core/effects/effect.h"
+#include "seep/core/effects/fluid_vertices.h"
 #include "seep/core/flow/explicit_solver.h"
 #include "seep/core/flow/implicit_solver.h"
+#include "seep/core/network/fluid_weight.h"
 
 namespace seep::core {
 
@@ -27,6 +36,7 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::uint32_t Hooks() const override { return kEndOfStepHook; }
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
+  Status Rebind(LiveState& s) override;
   Status EndOfStep(LiveState& s, const StepInfo& info) override;
 
   void SaveTo(EffectStates* out) const override { out->flow = state_; }
@@ -46,6 +56,9 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::uint64_t every_steps() const { return every_steps_; }
 
  private:
+  // Head offsets from the current positions (no-op without fluid weight).
+  Status RefreshFluidWeight(LiveState& s);
+
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
   const VolumeChangeEffect* volume_change_ = nullptr;
@@ -53,6 +66,9 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::int32_t limiting_domain_ = -1;
   std::uint64_t every_steps_ = 1;
   FlowEffectState state_;
+  std::optional<FluidWeight> weight_;
+  std::vector<double> node_weight_;  // W_n of the last refresh, Pa
+  FluidVertices vertices_;           // the loops' vertices now (walls in the fluid)
 };
 
 }  // namespace seep::core

@@ -1,6 +1,8 @@
 // ExplicitSolver: the PFC-style forward update (seed eq. 4, physics.md R1/R2),
 //
-//   P_i += (K_f / V_s,i) (dt (sum_j C_ij (P_j - P_i) + Q_src,i) - dV_i)   for non-fixed domains,
+//   P_i += (K_f / V_s,i) (dt (sum_j C_ij (P_j - P_i - o_ij) + Q_src,i) - dV_i)   non-fixed i,
+//
+// with o_ij the head offset of the pipe when the fluid has weight (pipe_head.h), 0 otherwise;
 //
 // guarded by a governor on the critical step (time_step_limit.h): the step is refused
 // (FailedPrecondition naming the limiting domain and what to change), reduced to the limit, or,
@@ -91,6 +93,9 @@ class ExplicitSolver {
   std::vector<double> gain_;      // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
+  // With fluid weight: the head inflow plus Q_src per domain, what inflow_ restarts from; empty
+  // without (inflow_ restarts from the sources).
+  std::vector<double> base_inflow_;
   std::vector<std::int32_t> sources_;
   std::vector<double> sub_step_volume_change_;
   bool warned_advise_only_ = false;  // log the advise-only overrun once, not every step

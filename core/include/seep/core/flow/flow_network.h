@@ -16,6 +16,11 @@
 //   pipe_length[p]      L, m (PFC: R_A + R_B).
 //   pipe_aperture[p]    a, m (aperture_law.h).
 //   pipe_conductance[p] C = a^3/(12 mu L), m^2/(Pa s); q = C (P_b - P_a) flows from b into a.
+//   pipe_head_offset[p] rho_f g.(x_b - x_a), Pa: the hydrostatic pressure difference between the
+//                       pipe's two ends when the fluid has weight (README "Fluid weight"). The flow
+//                       is then driven by the head, q = C (P_b - P_a - offset): fluid at rest under
+//                       gravity has P_b - P_a = offset and moves nowhere. Empty (the default) =
+//                       no fluid weight, and every solver runs exactly the weightless code.
 //
 // Boundary reservoirs are ordinary domains with role kFixedPressure; their volumes may be 0 (they
 // store nothing and are never updated). A pipe from an interior domain to such a node carries the
@@ -25,7 +30,8 @@
 // class and draws a fresh stamp from a process-wide counter, so a stamp identifies one state of
 // one network and never collides across networks:
 //   topology_version():    domain/pipe counts, pipe endpoints, roles (matrix pattern);
-//   coefficient_version(): conductances, volumes, source rates (matrix values, Δt_crit).
+//   coefficient_version(): conductances, volumes, source rates, head offsets (matrix values,
+//                          right-hand sides, Δt_crit).
 // Pressures are state, not coefficients: writing them bumps nothing. Spans returned by mutable_*()
 // bump the version when obtained; do not keep them across solver calls.
 //
@@ -56,6 +62,7 @@ struct FlowNetworkData {
   std::vector<double> pipe_length;
   std::vector<double> pipe_aperture;
   std::vector<double> pipe_conductance;
+  std::vector<double> pipe_head_offset;  // empty, or one per pipe
 };
 
 class FlowNetwork {
@@ -90,6 +97,9 @@ class FlowNetwork {
   std::span<const double> pipe_length() const { return data_.pipe_length; }
   std::span<const double> pipe_aperture() const { return data_.pipe_aperture; }
   std::span<const double> pipe_conductance() const { return data_.pipe_conductance; }
+  // Empty when the fluid has no weight.
+  std::span<const double> pipe_head_offset() const { return data_.pipe_head_offset; }
+  bool has_head_offsets() const { return !data_.pipe_head_offset.empty(); }
 
   // State: free to write, bumps nothing. Fixed-pressure nodes hold the value written here.
   std::span<double> mutable_pressure() { return data_.pressure; }
@@ -99,6 +109,10 @@ class FlowNetwork {
   std::span<double> mutable_pipe_conductance();
   std::span<double> mutable_apparent_volume();
   std::span<double> mutable_pore_volume();
+
+  // Sets the head offsets (one per pipe, finite; empty removes them) and bumps
+  // coefficient_version. Callers refresh them when the domains move (network/fluid_weight.h).
+  Status SetPipeHeadOffsets(std::span<const double> offset);
 
   // Sets apertures and recomputes C = a^3/(12 mu L) for every pipe.
   Status SetApertures(std::span<const double> aperture, double viscosity);

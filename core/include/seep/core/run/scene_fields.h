@@ -56,7 +56,7 @@ struct SceneFields {
   std::vector<double> pipe_y1;
   std::vector<double> pipe_aperture;
   std::vector<double> pipe_conductance;
-  std::vector<double> pipe_flow;  // q = C (P_b - P_a), m^2/s, from b into a
+  std::vector<double> pipe_flow;  // q = C (P_b - P_a - head offset), m^2/s, from b into a
 
   // Empty analytic_kind: the scene has no closed-form pressure (the vectors below are empty).
   std::string analytic_kind;  // "linear_steady", "linear_transient", "radial_steady"

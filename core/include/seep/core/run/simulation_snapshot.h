@@ -46,6 +46,9 @@ struct MechanicsSnapshot {
   std::vector<double> detection_wall_gap;
   // Flow coefficients per node / pipe of that network.
   std::vector<double> apparent_volume, pore_volume, aperture;
+  // Head offsets of the pipes (fluid weight only, else empty): measured from the centroids of
+  // the last flow update, which the positions of a later step no longer give.
+  std::vector<double> pipe_head_offset;
   std::uint64_t topology_version = 0;
   // Each effect's run totals (its SaveTo / RestoreFrom).
   EffectStates effects;

@@ -55,6 +55,11 @@ struct PackingSpec {
 struct FluidSpec {
   double viscosity_pa_s = 1e-3;
   double bulk_modulus_pa = 2.2e9;
+  // rho_f, kg/m^3; 0 = the fluid has no weight. The weight acts only with a gravity effect
+  // (which gives g): the pipes are then driven by the head, P - rho_f g.x, and the particles
+  // are buoyed (README "Fluid weight", network/fluid_weight.h). Without a gravity effect a density
+  // changes nothing.
+  double density_kg_m3 = 0.0;
 };
 
 struct ApertureLawSpec {
@@ -93,6 +98,12 @@ struct BoundarySpec {
   // Neither linear nor radial: the walls alone bound the fluid (needs a walls effect); fluid
   // enters or leaves only through drained walls, and with none the sample is sealed.
   bool walls_only = false;
+  // With fluid weight: the free domains start at rest, P = initial_pressure_pa + rho_f g.(x -
+  // x_ref) at their centroids, initial_pressure_pa being the pressure at the reference point
+  // (initial_pressure_x_m, initial_pressure_y_m). Needs fluid weight (validated).
+  bool initial_pressure_hydrostatic = false;
+  double initial_pressure_x_m = 0.0;
+  double initial_pressure_y_m = 0.0;
 };
 
 // kImplicit is backward Euler; kCrankNicolson the theta = 1/2 method (second order, oscillates
@@ -148,6 +159,8 @@ inline bool HasMechanics(const SceneSpec& scene) { return HasEffect<ContactsEffe
 inline bool HasFlow(const SceneSpec& scene) {
   return scene.effects.empty() || HasEffect<FlowEffectSpec>(scene);
 }
+// The fluid has weight: a density > 0 and a gravity effect (FluidSpec::density_kg_m3).
+bool HasFluidWeight(const SceneSpec& scene);
 
 // The storage model the scene's solver uses: its storage volume and factor (the floor depends on
 // the network: RunStorage in network/scene_network.h).

@@ -1,0 +1,124 @@
+#include "seep/core/network/fluid_weight.h"
+
+#include <fmt/format.h>
+
+#include "seep/core/coupling/contact_point.h"
+
+namespace seep::core {
+namespace {
+
+// Centroid of the polygon through the loop's centres, relative to its first vertex (precision
+// far from the origin), or the vertex mean of a degenerate loop; as the domain detection does.
+void LoopCentroid(const ParticleView& p, std::span<const std::int32_t> loop, double* cx,
+                  double* cy) {
+  const auto first = static_cast<std::size_t>(loop[0]);
+  const double x0 = p.x[first], y0 = p.y[first];
+  double twice_area = 0.0, sx = 0.0, sy = 0.0, mean_x = 0.0, mean_y = 0.0;
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loop[k]);
+    const auto j = static_cast<std::size_t>(loop[k + 1 < loop.size() ? k + 1 : 0]);
+    const double ax = p.x[i] - x0, ay = p.y[i] - y0;
+    const double bx = p.x[j] - x0, by = p.y[j] - y0;
+    const double cross = ax * by - bx * ay;
+    twice_area += cross;
+    sx += (ax + bx) * cross;
+    sy += (ay + by) * cross;
+    mean_x += ax;
+    mean_y += ay;
+  }
+  if (twice_area != 0.0) {
+    *cx = x0 + sx / (3.0 * twice_area);
+    *cy = y0 + sy / (3.0 * twice_area);
+  } else {
+    *cx = x0 + mean_x / static_cast<double>(loop.size());
+    *cy = y0 + mean_y / static_cast<double>(loop.size());
+  }
+}
+
+}  // namespace
+
+std::optional<FluidWeight> SceneFluidWeight(const SceneSpec& scene) {
+  if (!HasFluidWeight(scene)) return std::nullopt;
+  const auto* gravity = FindEffect<GravityEffectSpec>(scene);
+  const double rho = scene.fluid.density_kg_m3;
+  return FluidWeight{rho * gravity->gx_m_s2, rho * gravity->gy_m_s2};
+}
+
+Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& positions,
+                                  const FluidWeight& weight, std::vector<double>* out) {
+  const DomainNetwork& d = net.domains;
+  const FlowNetwork& flow = net.flow;
+  const std::size_t nodes = flow.num_domains();
+  const std::size_t domains = d.num_domains();
+  if (nodes < domains || net.pipe_contact.size() != flow.num_pipes()) {
+    return Internal(fmt::format(
+        "network.fluid_weight: {} flow nodes for {} domains, {} pipe contacts for {} pipes", nodes,
+        domains, net.pipe_contact.size(), flow.num_pipes()));
+  }
+  out->assign(nodes, 0.0);
+  for (std::size_t k = 0; k < domains; ++k) {
+    const auto begin = static_cast<std::size_t>(d.loop_offsets[k]);
+    const auto end = static_cast<std::size_t>(d.loop_offsets[k + 1]);
+    double cx = 0.0, cy = 0.0;
+    LoopCentroid(positions, std::span(d.loop_particles).subspan(begin, end - begin), &cx, &cy);
+    (*out)[k] = weight.x * cx + weight.y * cy;
+  }
+  if (nodes == domains) return Status::Ok();
+  // Reservoirs: the mean contact point of their pipes.
+  std::vector<double> sum_x(nodes - domains, 0.0), sum_y(nodes - domains, 0.0);
+  std::vector<double> count(nodes - domains, 0.0);
+  const auto a = flow.pipe_domain_a();
+  const auto b = flow.pipe_domain_b();
+  for (std::size_t p = 0; p < flow.num_pipes(); ++p) {
+    const std::int32_t contact = net.pipe_contact[p];
+    // Pipes through or along walls join domains (a drained wall's node keeps weight 0 here).
+    if (contact < 0 || d.walls.IsWallEdge(contact)) continue;
+    const auto c = static_cast<std::size_t>(contact);
+    const std::int32_t i = net.contacts.i[c];
+    const std::int32_t j = net.contacts.j[c];
+    const ContactArms arms = ComputeContactArms(positions, i, j);
+    const double px = positions.x[static_cast<std::size_t>(i)] + arms.ax;
+    const double py = positions.y[static_cast<std::size_t>(i)] + arms.ay;
+    for (const std::int32_t node : {a[p], b[p]}) {
+      if (static_cast<std::size_t>(node) < domains) continue;
+      const std::size_t r = static_cast<std::size_t>(node) - domains;
+      sum_x[r] += px;
+      sum_y[r] += py;
+      count[r] += 1.0;
+    }
+  }
+  for (std::size_t r = 0; r < count.size(); ++r) {
+    if (count[r] == 0.0) continue;
+    (*out)[domains + r] = weight.x * (sum_x[r] / count[r]) + weight.y * (sum_y[r] / count[r]);
+  }
+  return Status::Ok();
+}
+
+Status ApplyHeadOffsets(std::span<const double> node_weight, FlowNetwork* flow) {
+  if (node_weight.size() != flow->num_domains()) {
+    return Internal(fmt::format("network.fluid_weight: {} node weights for {} nodes",
+                                node_weight.size(), flow->num_domains()));
+  }
+  const auto a = flow->pipe_domain_a();
+  const auto b = flow->pipe_domain_b();
+  std::vector<double> offset(flow->num_pipes());
+  for (std::size_t p = 0; p < offset.size(); ++p) {
+    offset[p] =
+        node_weight[static_cast<std::size_t>(b[p])] - node_weight[static_cast<std::size_t>(a[p])];
+  }
+  return flow->SetPipeHeadOffsets(offset);
+}
+
+void ApplyHydrostaticStart(const SceneSpec& scene, const FluidWeight& weight,
+                           std::span<const double> node_weight, FlowNetwork* flow) {
+  const BoundarySpec& b = scene.boundary;
+  const double reference = weight.x * b.initial_pressure_x_m + weight.y * b.initial_pressure_y_m;
+  const auto role = flow->role();
+  const auto pressure = flow->mutable_pressure();
+  for (std::size_t n = 0; n < pressure.size(); ++n) {
+    if (role[n] == DomainRole::kFixedPressure) continue;
+    pressure[n] = b.initial_pressure_pa + (node_weight[n] - reference);
+  }
+}
+
+}  // namespace seep::core
