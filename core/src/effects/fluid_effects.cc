@@ -60,11 +60,14 @@ class FluidForcesEffect final : public Effect {
     slot_pressure_.assign(kernel_.num_slots(), 0.0);
     vertex_fx_.assign(walls.num_vertices(), 0.0);
     vertex_fy_.assign(walls.num_vertices(), 0.0);
-    // The domains each wall closes, with the length of wall they span at detection.
+    // The domains each impermeable wall closes, with the length of wall they span at detection
+    // (a drained wall's pores give way: the platen takes their fluid, so they add no stiffness).
     wall_pores_.clear();
     for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
       const std::int32_t c = d.boundary_pipe_contact[k];
       if (!walls.IsWallEdge(c) || walls.edge_particle[walls.Edge(c)] >= 0) continue;
+      const auto wall = static_cast<std::size_t>(walls.edge_wall[walls.Edge(c)]);
+      if (wall < s.net.wall_node.size() && s.net.wall_node[wall] >= 0) continue;
       wall_pores_.push_back({walls.edge_wall[walls.Edge(c)], d.boundary_pipe_domain[k],
                              walls.edge_gap[walls.Edge(c)]});
     }
