@@ -34,7 +34,7 @@ constexpr double kLoadStep = 2e4;         // Pa: strain ~1e-3, pore volumes chan
 constexpr double kBulkModulus = 2e6;  // Pa
 // With a0 = 10 um (k ~ 2.3e-14 m^2) this viscosity puts H^2/c_v at ~52 ms: about 50 crossings of
 // the undrained compression wave (~1 ms) and ~1e4 DEM steps.
-constexpr double kViscosity = 1.5e-5;  // Pa s
+constexpr double kViscosity = 1.5e-5;       // Pa s
 constexpr double kResidualAperture = 1e-5;  // m, every pipe (no aperture update: k is constant)
 // The coupled step is set by the fluid's stiffness (~7 kn per disk here): 0.5 of it is ~0.18
 // sqrt(m/kn), stable. The drained DEM-only run needs its own, smaller, factor: at 0.5 sqrt(m/kn)
@@ -407,6 +407,87 @@ TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
     std::printf("V17: %5.2f  %.4f  %.4f\n", tv, expected, from_settlement);
     EXPECT_NEAR(from_settlement, expected, 0.05) << "Tv = " << tv;
   }
+}
+
+// V20 (physics.md §5): undrained loading. A sealed sample (every wall impermeable) squeezed by
+// four servo walls at the same total stress: the pore fluid takes the undrained share
+//   du/dsigma = (K_f/n) / (K_f/n + K),
+// K the 2D bulk modulus of the drained skeleton (dsigma over the area strain of the same load
+// step without fluid). Parameters unlike V17's: a squat 14 x 12 lattice, a stiffer fluid, a
+// larger load, biaxial instead of oedometric.
+TEST(V20UndrainedLoading, SealedSampleTakesTheUndrainedShareOfTheLoad) {
+  const OneThread one_thread;
+  constexpr double kLoad = 3.5e4;  // Pa, on every wall
+  constexpr double kFluid = 4e6;   // Pa
+  SceneSpec s;
+  s.name = "v20 undrained loading";
+  s.packing.source = LatticePackingSpec{LatticeKind::kHex, 14, 12, kRadius};
+  s.packing.contact_gap_m = 1e-6;
+  s.fluid.viscosity_pa_s = kViscosity / 20.0;  // evens out inside the sample within ~1 ms
+  s.fluid.bulk_modulus_pa = kFluid;
+  s.aperture.residual_aperture_m = kResidualAperture;
+  s.aperture.reference_force_n = 1e3;
+  s.boundary.walls_only = true;
+  s.solver.kind = SolverKind::kImplicit;
+  s.solver.storage = StorageVolume::kApparent;
+  s.solver.storage_factor = kStoragePorosity;
+  s.solver.dt_factor = 1e6;
+  s.solver.end_time_s = 0.03;
+  WallsEffectSpec walls;
+  for (const WallSide side :
+       {WallSide::kBottom, WallSide::kLeft, WallSide::kRight, WallSide::kTop}) {
+    walls.walls.push_back(SideWall(side, kLoad, 0.5, kServoMaxSpeed));
+  }
+  const auto area = [](const LiveState& state) {
+    return (state.walls[2].px - state.walls[1].px) * (state.walls[3].py - state.walls[0].py);
+  };
+
+  // Drained: the load on the skeleton alone, to rest.
+  SceneSpec drained = s;
+  drained.effects = {Contacts(kDrainedDtSafety), walls, LocalDampingEffectSpec{0.7}};
+  Result<Simulation> dry = Simulation::Create(drained);
+  ASSERT_TRUE(dry.ok()) << dry.status().message();
+  const double area0 = area(dry->stepper().state());
+  ASSERT_TRUE(dry->Run({}).ok());
+  const double strain = 1.0 - area(dry->stepper().state()) / area0;
+  const double bulk = kLoad / strain;
+
+  // Sealed: the same load with the fluid in.
+  SceneSpec sealed = s;
+  sealed.solver.end_time_s = 0.008;
+  sealed.effects = {Contacts(kCoupledDtSafety),
+                    walls,
+                    LocalDampingEffectSpec{kLocalDamping},
+                    FlowEffectSpec{},
+                    FluidForcesEffectSpec{},
+                    VolumeChangeEffectSpec{}};
+  double sum = 0.0;
+  int count = 0;
+  Result<Simulation> wet = Simulation::Create(sealed);
+  ASSERT_TRUE(wet.ok()) << wet.status().message();
+  RunControl control;
+  control.at_step_end = [&](const Simulation& now) {
+    if (now.time_s() < 0.004) return;
+    const LiveState& state = now.stepper().state();
+    const auto p = state.net.flow.pressure();
+    const auto v = state.net.flow.apparent_volume();
+    double pv = 0.0, vv = 0.0;
+    for (std::size_t d = 0; d < state.net.domains.num_domains(); ++d) {
+      pv += p[d] * v[d];
+      vv += v[d];
+    }
+    sum += pv / vv;
+    ++count;
+  };
+  ASSERT_TRUE(wet->Run(control).ok());
+  ASSERT_GT(count, 0);
+  const double du = sum / count;
+  const double stiffness = kFluid / kStoragePorosity;
+  const double expected = stiffness / (stiffness + bulk);
+  std::printf(
+      "V20: K = %.4g Pa, K_f/n = %.4g Pa, du/dsigma measured %.4f, undrained %.4f (%+.2f %%)\n",
+      bulk, stiffness, du / kLoad, expected, 100.0 * (du / kLoad / expected - 1.0));
+  EXPECT_NEAR(du / kLoad, expected, 0.03 * expected);
 }
 
 }  // namespace
