@@ -8,6 +8,7 @@
 
 #include "scene_test_util.h"
 #include "seep/core/run/simulation.h"
+#include "seep/core/run/stepper.h"
 
 namespace seep::core {
 namespace {
@@ -101,6 +102,37 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SnapshotResume,
                            return param_info.param == SolverKind::kExplicit ? "Explicit"
                                                                             : "Implicit";
                          });
+
+// progress_every = 1 on a run of thousands of steps: the series is decimated to at most
+// kMaxSeriesRows rows (every other row dropped, the stride doubled), and a run resumed from a
+// snapshot taken between two halvings keeps the very same rows.
+TEST(SnapshotResume, SeriesStaysBoundedAndResumesWithTheSameRows) {
+  SceneSpec scene = TransientScene(SolverKind::kExplicit);
+  scene.solver.progress_every = 1;
+  scene.solver.end_time_s = 5.5e-4;  // about 5300 steps
+  auto reference = Simulation::Create(scene);
+  ASSERT_TRUE(reference.ok()) << reference.status().ToString();
+  const std::uint64_t total = reference->total_steps();
+  ASSERT_GT(total, 4 * Stepper::kMaxSeriesRows);
+  const SimulationSnapshot expected = RunToEnd(*reference);
+  EXPECT_LE(expected.series.rows(), Stepper::kMaxSeriesRows);
+  EXPECT_GT(expected.series.rows(), Stepper::kMaxSeriesRows / 2);
+  EXPECT_EQ(reference->stepper().series_stride() % 4, 0u);  // halved at least twice
+  // The newest sample is of the last step, whatever the series keeps.
+  EXPECT_EQ(reference->latest_sample().front(), reference->time_s());
+
+  // Cut at an odd step past the first halving: the stride is rebuilt from the step alone.
+  auto first = Simulation::Create(scene);
+  ASSERT_TRUE(first.ok());
+  const SimulationSnapshot carried = RunUntil(*first, 2 * Stepper::kMaxSeriesRows + 3);
+  auto last = Simulation::Create(scene);
+  ASSERT_TRUE(last.ok());
+  ASSERT_TRUE(last->Restore(carried).ok());
+  EXPECT_EQ(last->stepper().series_stride(), first->stepper().series_stride());
+  const SimulationSnapshot resumed = RunToEnd(*last);
+  EXPECT_TRUE(BitIdentical(resumed.series.values, expected.series.values));
+  EXPECT_TRUE(BitIdentical(resumed.pressure, expected.pressure));
+}
 
 TEST(SnapshotRestore, SnapshotOfAnotherSceneIsRefusedAndLeavesTheStateAlone) {
   auto small = Simulation::Create(TransientScene(SolverKind::kExplicit));
