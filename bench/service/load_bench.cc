@@ -238,8 +238,7 @@ int Run(const LoadOptions& options) {
   std::printf("jobs       %llu submitted, watched to the end and read back (%.1f per second)\n",
               static_cast<unsigned long long>(jobs_done.load()),
               static_cast<double>(jobs_done.load()) / elapsed);
-  std::printf("errors     %d                                          %s (goal: 0)\n",
-              book.errors(), Verdict(no_errors));
+  std::printf("errors     %d   %s (goal: 0)\n", book.errors(), Verdict(no_errors));
   std::printf(
       "seepd RSS  start %.1f MiB, peak %.1f MiB in the first half, %.1f MiB in the "
       "second, %.1f MiB at the end   %s (goal: peak <= %.0f MiB, second half <= 1.1 x "
