@@ -2,32 +2,18 @@
 // (and a slot freed by a stream that ends is taken again), a stream limit that would leave no
 // thread for other calls is refused at start, and a job reporting progress at every step keeps
 // a time series of at most 1024 rows.
-#include <google/protobuf/text_format.h>
-
 #include "grpc_seepd_fixture.h"
+#include "test_support.h"
 
 namespace seep::testing {
 namespace {
 
-// An explicit lattice run of several thousand steps, progress reported at every one.
-v1::Scene EveryStepScene(double end_time_s) {
-  v1::Scene scene;
-  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(
-      R"pb(
-        name: "every-step"
-        packing { lattice { kind: LATTICE_KIND_SQUARE columns: 20 rows: 10 radius_m: 1e-3 } }
-        fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
-        aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
-        boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 }
-        solver {
-          kind: SOLVER_KIND_EXPLICIT
-          storage: STORAGE_VOLUME_PORE
-          dt_factor: 0.9
-          progress_every: 1
-        }
-      )pb",
-      &scene));
-  scene.mutable_solver()->set_end_time_s(end_time_s);
+// The 1D transient example (about 1500 steps) run `times` as long, progress reported at every
+// step.
+v1::Scene EveryStepScene(double times) {
+  v1::Scene scene = ExampleScene("transient_1d.textproto");
+  scene.mutable_solver()->set_progress_every(1);
+  scene.mutable_solver()->set_end_time_s(times * scene.solver().end_time_s());
   return scene;
 }
 
@@ -50,7 +36,7 @@ class ServerLimits : public GrpcSeepdTest {
 
 TEST_F(ServerLimits, WatchStreamsBeyondTheLimitAreRefused) {
   Start("watch", {"--max-watch-streams", "1", "--rpc-threads", "8"});
-  const std::string id = Submit(EveryStepScene(100.0));  // runs until cancelled
+  const std::string id = Submit(EveryStepScene(1e4));  // runs until seepd stops
   Stream first = Watch(id);
   v1::JobEvent event;
   ASSERT_TRUE(first.reader->Read(&event));
@@ -91,7 +77,7 @@ TEST_F(ServerLimits, AStreamLimitThatLeavesNoThreadsIsRefusedAtStart) {
 
 TEST_F(ServerLimits, ProgressAtEveryStepKeepsTheSeriesBounded) {
   Start("series", {});
-  const std::string id = Submit(EveryStepScene(1e-2));
+  const std::string id = Submit(EveryStepScene(3));
   auto jobs = WaitAllTerminal({id}, std::chrono::seconds(120));
   ASSERT_EQ(jobs[id].state(), v1::JOB_STATE_SUCCEEDED) << jobs[id].DebugString();
   const v1::TimeSeries& series = jobs[id].result().series();
