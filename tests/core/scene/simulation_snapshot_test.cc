@@ -3,7 +3,9 @@
 // service's checkpoints rely on).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stop_token>
 
 #include "scene_test_util.h"
@@ -159,6 +161,17 @@ TEST(SnapshotRestore, NonFinitePressureIsRefused) {
   const Status status = sim->Restore(snap);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
   EXPECT_NE(status.message().find("snapshot.pressure[1]"), std::string::npos);
+}
+
+// A report is checked where it is measured: a metric that is not a number is named.
+TEST(RunReport, AMetricThatIsNotFiniteIsNamed) {
+  EXPECT_TRUE(CheckMetricsFinite({{"inflow_m2_per_s", 1e-6}, {"steps", 3}}).ok());
+  const Status nan =
+      CheckMetricsFinite({{"inflow_m2_per_s", 1e-6}, {"permeability_m2", std::nan("")}});
+  EXPECT_EQ(nan.code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(nan.message(), "report: metric 'permeability_m2' is not a finite number (got nan)");
+  EXPECT_EQ(CheckMetricsFinite({{"p_max", -std::numeric_limits<double>::infinity()}}).message(),
+            "report: metric 'p_max' is not a finite number (got -inf)");
 }
 
 }  // namespace
