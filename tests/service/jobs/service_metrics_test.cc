@@ -1,9 +1,11 @@
-// ServiceMetrics: the text exposition format, counters that move, the step rate's window.
+// ServiceMetrics: the text exposition format, counters that move, the step rate's window, and
+// counts from many threads while scrapes render (label `concurrency`: also under TSan).
 #include "metrics/service_metrics.h"
 
 #include <gtest/gtest.h>
 
 #include <thread>
+#include <vector>
 
 namespace seep::service {
 namespace {
@@ -56,6 +58,31 @@ TEST(ServiceMetrics, StepRateIsMeasuredOverAWindowOfAtLeastASecond) {
   const double rate = std::stod(text.substr(at + sample.size()));
   EXPECT_GT(rate, 0.0);
   EXPECT_LE(rate, 1000.0);
+}
+
+TEST(ServiceMetrics, CountsFromManyThreadsWhileScrapingAddUp) {
+  ServiceMetrics metrics;
+  constexpr int kThreads = 4;
+  constexpr int kEach = 2000;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&] {
+      for (int i = 0; i < kEach; ++i) {
+        metrics.CountRpc("GetJob", "OK");
+        metrics.AddSteps(1);
+        if (i % 100 == 0) metrics.RecordCheckpoint(10, 0.001);
+      }
+    });
+  }
+  threads.emplace_back([&] {
+    for (int i = 0; i < 50; ++i) (void)metrics.Render({});
+  });
+  for (auto& t : threads) t.join();
+  const std::string text = metrics.Render({});
+  EXPECT_TRUE(Has(text, "seep_rpc_requests_total{method=\"GetJob\",code=\"OK\"} 8000")) << text;
+  EXPECT_TRUE(Has(text, "seep_steps_total 8000")) << text;
+  EXPECT_TRUE(Has(text, "seep_checkpoints_total 80")) << text;
+  EXPECT_TRUE(Has(text, "seep_checkpoint_bytes_total 800")) << text;
 }
 
 }  // namespace
