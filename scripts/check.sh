@@ -12,9 +12,11 @@ stage_start=$SECONDS
 stage_done() { echo "== $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS; }
 
 # The sanitizer builds: -O1 (what the sanitizers' manuals recommend for speed with useful stacks),
-# no benchmarks. The system gRPC and protobuf are not instrumented: ASan still checks our code
-# around them, and the TSan tests use no gRPC at all.
-sanitizer_flags=(-G Ninja -DCMAKE_BUILD_TYPE=None -DSEEP_BUILD_BENCH=OFF -DSEEP_WERROR=ON)
+# no benchmarks, warnings not errors (the Release build below is the warnings gate; GCC 12 at -O1
+# under ASan reports std::regex's std::function members as maybe-uninitialized). The system gRPC
+# and protobuf are not instrumented: ASan still checks our code around them, and the TSan tests
+# use no gRPC at all.
+sanitizer_flags=(-G Ninja -DCMAKE_BUILD_TYPE=None -DSEEP_BUILD_BENCH=OFF -DSEEP_WERROR=OFF)
 
 echo "== AddressSanitizer + UBSan build of the core, service and client tests"
 cmake -S . -B build/asan "${sanitizer_flags[@]}" -DSEEP_SANITIZE=ON \
