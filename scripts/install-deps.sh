@@ -8,6 +8,7 @@ packages=(
   libgrpc++-dev libgrpc-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler grpc-proto
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev libsuitesparse-dev libopenblas-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev openssl
+  libcpp-httplib-dev  # seepd --metrics-listen: the Prometheus endpoint (and its test's client)
   python3-vtk9  # tests: exported .vtu/.vtp files load in VTK's own readers
   python3-grpcio python3-protobuf  # tests: a Python gRPC client (stubs made by protoc) drives seepd
 )

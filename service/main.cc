@@ -4,6 +4,7 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
 #include <semaphore.h>
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -34,6 +35,9 @@
 #include "jobs/physics_pool.h"
 #include "jobs/retention.h"
 #include "jobs/secure_random.h"
+#include "jobs/test_crash_points.h"
+#include "metrics/metrics_endpoint.h"
+#include "metrics/service_metrics.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "seep/core/log.h"
@@ -70,6 +74,7 @@ struct Options {
   std::string test_stall_job;      // test only
   int test_fail_final_writes = 0;  // test only
   std::string test_crash_job;      // test only
+  std::string test_crash_at;       // test only: POINT:N (TestCrashPoints)
   int max_interruptions = 3;
   std::string token_file;  // else SEEP_TOKEN; neither: no token
   std::string tls_cert;    // PEM; with tls_key, serve TLS
@@ -80,6 +85,12 @@ struct Options {
   std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
   double retention_interval_s = 600.0;
   double shutdown_timeout_s = 60.0;
+  std::size_t max_response_bytes = seep::service::kDefaultMaxResponseBytes;
+  int rpc_threads = 200;
+  int max_watch_streams = seep::service::kDefaultMaxWatchStreams;
+  int max_streams_per_connection = 100;
+  double keepalive_s = 30.0;
+  std::string metrics_listen;  // empty: no metrics endpoint
 };
 
 // Waits for the drain to finish (`drained`), a second signal or the time limit; the last two end
@@ -113,6 +124,28 @@ void AwaitDrain(const std::atomic<bool>& drained, double timeout_s, spdlog::logg
     logger.flush();
     std::_Exit(kExitShutdownForced);
   }
+}
+
+// The gRPC server's limits: threads (each call, and each open WatchJob stream, holds one),
+// streams per connection, message sizes and keepalive (dead peers are noticed and dropped).
+void ApplyServerLimits(const Options& options, grpc::ServerBuilder& builder) {
+  grpc::ResourceQuota quota("seepd");
+  quota.SetMaxThreads(options.rpc_threads);  // beyond: RESOURCE_EXHAUSTED
+  builder.SetResourceQuota(quota);
+  // Larger requests are refused by gRPC itself with RESOURCE_EXHAUSTED before any handler runs.
+  builder.SetMaxReceiveMessageSize(options.max_message_bytes);
+  // GetJobFields checks its own limit first, with the figures; this is the backstop.
+  builder.SetMaxSendMessageSize(static_cast<int>(
+      std::min<std::size_t>(options.max_response_bytes + (1u << 20),
+                            static_cast<std::size_t>(std::numeric_limits<int>::max()))));
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, options.max_streams_per_connection);
+  const int keepalive_ms = static_cast<int>(options.keepalive_s * 1000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, keepalive_ms);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, std::min(keepalive_ms, 10000));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
+  // Clients may ping as often as every 10 s (watchers on idle jobs keep their streams alive).
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 10000);
 }
 
 // Loopback addresses and unix sockets are the only places where plaintext without a token is
@@ -322,6 +355,21 @@ int Run(const Options& options) {
     logger->critical("{}", token.status().message());
     return 2;
   }
+  if (options.max_watch_streams >= options.rpc_threads) {
+    logger->critical(
+        "--max-watch-streams {} must be below --rpc-threads {}: each open stream holds a server "
+        "thread, and the other calls need some too",
+        options.max_watch_streams, options.rpc_threads);
+    return 2;
+  }
+  seep::service::TestCrashPoints crash_points;
+  if (!options.test_crash_at.empty()) {
+    if (auto armed = crash_points.Arm(options.test_crash_at); !armed.ok()) {
+      logger->critical("{}", armed.message());
+      return 2;
+    }
+    logger->warn("test hook --test-crash-at {} is on: not for production", options.test_crash_at);
+  }
   auto credentials = MakeServerCredentials(options, *logger);
   if (!credentials) return 2;
   const bool tls = !options.tls_cert.empty();
@@ -369,6 +417,15 @@ int Run(const Options& options) {
   runner_options.checkpoints.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.checkpoint_interval_s * 1000));
   runner_options.checkpoints.keep = options.checkpoints_kept;
+  seep::service::ServiceMetrics metrics;
+  runner_options.metrics = &metrics;
+  runner_options.checkpoints.on_written = [&metrics](std::int64_t bytes, double seconds) {
+    metrics.RecordCheckpoint(bytes, seconds);
+  };
+  if (crash_points.armed()) {
+    runner_options.crash_points = &crash_points;
+    runner_options.checkpoints.crash_points = &crash_points;
+  }
   seep::service::JobRunner runner(**store, hub, runner_options, logger);
   // GetJobFields' physics: one request at a time with a job's thread budget, a few more waiting.
   seep::service::PhysicsPool physics(/*threads=*/1, runner_options.threads_per_job,
@@ -376,15 +433,29 @@ int Run(const Options& options) {
   seep::service::SeepServiceImpl service(
       **store, hub, physics, SEEP_BUILD_ID,
       {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger,
-      {authenticated ? &**token : nullptr, options.max_scene_bytes});
+      {authenticated ? &**token : nullptr, options.max_scene_bytes, options.max_response_bytes,
+       options.max_watch_streams},
+      &metrics);
+  // Scraped on the endpoint's own threads: the store's counts are read at each scrape.
+  seep::service::MetricsEndpoint metrics_endpoint([&] {
+    seep::service::MetricsSnapshotGauges gauges;
+    if (auto counts = (*store)->CountByState(); counts.ok()) {
+      for (const auto& [state, count] : *counts) {
+        gauges.jobs_by_state.emplace_back(seep::service::JobStateName(state), count);
+      }
+    } else {
+      logger->warn("metrics: jobs not counted: {}", counts.status().ToString());
+    }
+    gauges.watch_streams = hub.followers();
+    return metrics.Render(gauges);
+  });
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(options.listen, credentials, &port);
-  // Larger requests are refused by gRPC itself with RESOURCE_EXHAUSTED before any handler runs.
-  builder.SetMaxReceiveMessageSize(options.max_message_bytes);
+  ApplyServerLimits(options, builder);
   builder.RegisterService(&service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
@@ -401,6 +472,20 @@ int Run(const Options& options) {
                authenticated ? "bearer token required for seep.v1.SeepService (health stays open)"
                              : "no token required",
                options.max_message_bytes, options.max_scene_bytes);
+  logger->info(
+      "limits: {} RPC threads, {} watch streams, {} streams per connection, keepalive every {} "
+      "s, field responses up to {} bytes",
+      options.rpc_threads, options.max_watch_streams, options.max_streams_per_connection,
+      options.keepalive_s, options.max_response_bytes);
+  if (!options.metrics_listen.empty()) {
+    if (auto started = metrics_endpoint.Start(options.metrics_listen); !started.ok()) {
+      logger->critical("{}", started.message());
+      return 2;
+    }
+    logger->info("metrics for Prometheus on http://{}:{}/metrics",
+                 options.metrics_listen.substr(0, options.metrics_listen.rfind(':')),
+                 metrics_endpoint.port());
+  }
   if (!options.port_file.empty() && !WritePortFile(options.port_file, port)) {
     logger->critical("cannot write --port-file {}", options.port_file);
     return 1;
@@ -430,6 +515,7 @@ int Run(const Options& options) {
   });
   server->Wait();
   signal_waiter.join();
+  metrics_endpoint.Stop();
   logger->info("seepd stopped");
   return 0;
 }
@@ -490,6 +576,11 @@ int main(int argc, char** argv) {
                  "TEST ONLY: a worker running a job of this name ends seepd 1500 steps into its "
                  "run")
       ->group("");
+  app.add_option("--test-crash-at", options.test_crash_at,
+                 "TEST ONLY: POINT:N, seepd kills itself (SIGKILL) the N-th time it passes POINT: "
+                 "checkpoint-file (a file written, not yet recorded) or result-series (a result's "
+                 "series stored, not yet its final state)")
+      ->group("");
   app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
                  "TEST ONLY: the first N tries of writing a finished job's result fail")
       ->check(CLI::NonNegativeNumber)
@@ -529,6 +620,32 @@ int main(int argc, char** argv) {
                  "before exiting anyway (status 3; a second signal exits at once)")
       ->check(CLI::Range(0.1, 86400.0))
       ->capture_default_str();
+  app.add_option("--max-response-bytes", options.max_response_bytes,
+                 "largest GetJobFields response sent (larger: RESOURCE_EXHAUSTED with the size)")
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 31))
+      ->capture_default_str();
+  app.add_option("--rpc-threads", options.rpc_threads,
+                 "most gRPC calls served at once (each open WatchJob stream holds one); beyond: "
+                 "RESOURCE_EXHAUSTED")
+      ->check(CLI::Range(4, 10000))
+      ->capture_default_str();
+  app.add_option("--max-watch-streams", options.max_watch_streams,
+                 "most WatchJob streams open at once (below --rpc-threads); beyond: "
+                 "RESOURCE_EXHAUSTED")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  app.add_option("--max-streams-per-connection", options.max_streams_per_connection,
+                 "most calls one client connection may have open at once")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  app.add_option("--keepalive-s", options.keepalive_s,
+                 "seconds between keepalive pings on an idle connection (a peer that does not "
+                 "answer within 10 s is dropped)")
+      ->check(CLI::Range(1.0, 86400.0))
+      ->capture_default_str();
+  app.add_option("--metrics-listen", options.metrics_listen,
+                 "HOST:PORT of an HTTP endpoint serving /metrics for Prometheus (off by default; "
+                 "port 0 picks a free one, logged)");
   CLI11_PARSE(app, argc, argv);
   try {
     return Run(options);

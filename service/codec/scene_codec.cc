@@ -3,12 +3,17 @@
 #include <fmt/format.h>
 
 #include "codec/effect_codec.h"
+#include "codec/state_size_estimate.h"
 
 namespace seep::service {
 namespace {
 
 using core::InvalidArgument;
 using core::Result;
+
+// A run reports its progress at least this often (in steps). Any interval up to it is fine: the
+// time series keeps at most core::Stepper::kMaxSeriesRows rows whatever the interval.
+constexpr std::uint64_t kMaxProgressEvery = 1'000'000'000;
 
 Result<core::PackingSource> PackingFromProto(const v1::Packing& packing) {
   switch (packing.source_case()) {
@@ -109,6 +114,12 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   }
   spec.dt_factor = solver.dt_factor();
   spec.end_time_s = solver.end_time_s();
+  if (solver.progress_every() > kMaxProgressEvery) {
+    return InvalidArgument(fmt::format(
+        "scene.solver.progress_every: at most {} steps between progress reports (got {}); 0 "
+        "chooses about 200 reports per run",
+        kMaxProgressEvery, solver.progress_every()));
+  }
   spec.progress_every = solver.progress_every();
   spec.storage_factor = solver.has_storage_factor() ? solver.storage_factor() : 1.0;
   spec.storage_floor_fraction = solver.storage_floor_fraction();
@@ -195,6 +206,7 @@ Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
 Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene) {
   SEEP_ASSIGN_OR_RETURN(core::SceneSpec spec, DecodeScene(scene));
   SEEP_RETURN_IF_ERROR(core::ValidateScene(spec));
+  SEEP_RETURN_IF_ERROR(CheckStateFitsACheckpoint(spec));
   return spec;
 }
 

@@ -12,7 +12,8 @@ namespace seep::service {
 // The wire checks only. For a scene that core::Simulation::Create validates next (it calls
 // core::ValidateScene first): a stored scene at the start of its run, or for GetJobFields.
 core::Result<core::SceneSpec> DecodeScene(const v1::Scene& scene);
-// DecodeScene, then core::ValidateScene: what a submit checks before anything is stored.
+// DecodeScene, then core::ValidateScene and the estimate of the state's size
+// (CheckStateFitsACheckpoint): what a submit checks before anything is stored.
 core::Result<core::SceneSpec> SceneFromProto(const v1::Scene& scene);
 
 }  // namespace seep::service

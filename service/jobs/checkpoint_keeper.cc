@@ -98,6 +98,8 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));
     return core::Status::Ok();
   }
+  if (policy_.crash_points != nullptr)
+    policy_.crash_points->Reach(TestCrashPoints::kCheckpointFile);
   CheckpointRecord record;
   record.step = sim.step();
   record.time_s = sim.time_s();
@@ -116,8 +118,10 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
     if (old.step != record.step) std::filesystem::remove(old.path, ec);
   }
   ++written_;
-  seconds_writing_ +=
+  const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  seconds_writing_ += seconds;
+  if (policy_.on_written) policy_.on_written(record.bytes, seconds);
   log_->debug("checkpoint at step {} ({} bytes)", record.step, record.bytes);
   return core::Status::Ok();
 }

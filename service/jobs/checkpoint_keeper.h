@@ -14,11 +14,13 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "jobs/test_crash_points.h"
 #include "seep/core/run/simulation.h"
 #include "seep/core/status.h"
 #include "store/job_store.h"
@@ -30,6 +32,10 @@ struct CheckpointPolicy {
   std::uint64_t every_steps = 0;              // 0 = no step trigger
   std::chrono::milliseconds interval{30000};  // 0 = no wall-time trigger
   std::uint32_t keep = 3;
+  // Told of every checkpoint written and recorded: its bytes and wall seconds (for metrics).
+  std::function<void(std::int64_t bytes, double seconds)> on_written;
+  // Test only: passed through between a file and its record (null = none).
+  const TestCrashPoints* crash_points = nullptr;
 };
 
 class CheckpointKeeper {

@@ -229,6 +229,7 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   std::stop_callback on_shutdown(shutdown, [&running] { running->stop.request_stop(); });
   // A cancel stored between the claim and the registration above is seen here.
   Renew(job.id, *running);
+  hub_.RecordChanged(job.id);  // QUEUED -> RUNNING, for its followers
   hub_.Publish(job.id, job.progress);
   running->log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt,
                      job.lease_epoch);
@@ -284,12 +285,10 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
       JobProgress progress =
           JobProgress::At(p.step, p.time_s, p.fraction_done,
                           done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0);
-      const core::TimeSeries& series = sim->series();
-      if (const std::size_t rows = series.rows(); rows > 0) {
-        const std::size_t width = series.columns.size();
-        for (std::size_t c = 1; c < width; ++c) {  // column 0 is time_s, already in progress
-          progress.latest.emplace_back(series.columns[c], series.values[(rows - 1) * width + c]);
-        }
+      const std::vector<std::string>& columns = sim->series().columns;
+      const std::vector<double>& latest = sim->latest_sample();
+      for (std::size_t c = 1; c < latest.size() && c < columns.size(); ++c) {
+        progress.latest.emplace_back(columns[c], latest[c]);  // column 0 is time_s, in progress
       }
       PublishProgress(job.id, running, progress);
     };
@@ -302,6 +301,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
         log->critical("test hook --test-crash-job: ending the process");
         std::_Exit(86);
       }
+      if (options_.metrics != nullptr) options_.metrics->AddSteps(1);
       if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
       ++running.ticks;
       running.StopIfLeaseLost(keeper.MaybeWrite(at));
@@ -350,6 +350,9 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     const auto write_result = [&]() -> Status {
       SEEP_RETURN_IF_ERROR(store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
                                                     report.series.values, state_sha256));
+      if (options_.crash_points != nullptr) {
+        options_.crash_points->Reach(TestCrashPoints::kResultSeries);
+      }
       return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
                            wall_s, NowMs());
     };

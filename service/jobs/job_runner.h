@@ -31,6 +31,8 @@
 
 #include "jobs/checkpoint_keeper.h"
 #include "jobs/job_hub.h"
+#include "jobs/test_crash_points.h"
+#include "metrics/service_metrics.h"
 #include "store/job_store.h"
 
 namespace seep::service {
@@ -69,6 +71,10 @@ struct JobRunnerOptions {
   std::string test_stall_job;
   // Periodic checkpoints of running jobs, and resume from them (dir empty = off).
   CheckpointPolicy checkpoints;
+  // Test only: where seepd may kill itself (TestCrashPoints; null = nowhere).
+  const TestCrashPoints* crash_points = nullptr;
+  // Counts the steps the jobs take (optional, owned by the caller).
+  ServiceMetrics* metrics = nullptr;
 };
 
 class JobRunner {

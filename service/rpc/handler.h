@@ -16,25 +16,30 @@ namespace seep::service {
 
 // The caller is authenticated first (when seepd has a token; a refusal is logged), and no
 // exception escapes into gRPC: it is logged and the caller gets INTERNAL "<rpc>: internal error".
+// Every outcome is counted by method and code (ServiceMetrics), when seepd keeps metrics.
 // The body returns a grpc::Status or a core::Status (mapped by ToGrpcStatus).
 template <typename Fn>
 grpc::Status SeepServiceImpl::Guarded(const grpc::ServerContext* ctx, const char* rpc,
                                       Fn&& fn) const {
+  const auto counted = [&](grpc::Status status) {
+    if (metrics_ != nullptr) metrics_->CountRpc(rpc, GrpcCodeName(status.error_code()));
+    return status;
+  };
   if (guards_.auth != nullptr) {
     if (grpc::Status denied = guards_.auth->Check(*ctx); !denied.ok()) {
       logger_->warn("{} from {}: refused: {}", rpc, ctx->peer(), denied.error_message());
-      return denied;
+      return counted(denied);
     }
   }
   try {
     if constexpr (std::is_same_v<std::invoke_result_t<Fn>, core::Status>) {
-      return ToGrpcStatus(fn());
+      return counted(ToGrpcStatus(fn()));
     } else {
-      return fn();
+      return counted(fn());
     }
   } catch (const std::exception& e) {
     logger_->error("{}: unexpected exception: {}", rpc, e.what());
-    return {grpc::StatusCode::INTERNAL, fmt::format("{}: internal error", rpc)};
+    return counted({grpc::StatusCode::INTERNAL, fmt::format("{}: internal error", rpc)});
   }
 }
 

@@ -33,14 +33,16 @@ core::Result<std::string> NewJobId() {
 
 SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, PhysicsPool& physics,
                                  std::string build_id, ServiceHooks hooks,
-                                 std::shared_ptr<spdlog::logger> logger, ServiceGuards guards)
+                                 std::shared_ptr<spdlog::logger> logger, ServiceGuards guards,
+                                 ServiceMetrics* metrics)
     : store_(store),
       hub_(hub),
       physics_(physics),
       build_id_(std::move(build_id)),
       hooks_(std::move(hooks)),
       logger_(std::move(logger)),
-      guards_(guards) {}
+      guards_(guards),
+      metrics_(metrics) {}
 
 core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
   SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Get(id));
@@ -102,7 +104,6 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
       logger_->info("{} job {} submitted ('{}')",
                     outcome.job.kind == JobKind::kCalibration ? "calibration" : "simulation",
                     outcome.job.id, outcome.job.name);
-      hub_.NotifyChanged();
       if (hooks_.wake_workers) hooks_.wake_workers();
     }
     SEEP_ASSIGN_OR_RETURN(const JobRecord current, LoadJob(outcome.job.id));
@@ -158,26 +159,51 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
 
 grpc::Status SeepServiceImpl::WatchJob(grpc::ServerContext* ctx, const v1::WatchJobRequest* req,
                                        grpc::ServerWriter<v1::JobEvent>* writer) {
-  return Guarded(ctx, "WatchJob", [&]() -> core::Status {
-    SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
-    std::string last_sent;
-    for (;;) {
-      const std::uint64_t version = hub_.version();
-      SEEP_ASSIGN_OR_RETURN(const JobRecord job, LoadJob(req->id()));
-      v1::JobEvent event;
-      JobToProto(job, /*with_scene=*/false, event.mutable_job());
-      if (event.job().has_result()) *event.mutable_result() = event.job().result();
-      std::string bytes = event.SerializeAsString();
-      if (bytes != last_sent) {
-        if (!writer->Write(event)) return core::Cancelled("watcher went away");
-        last_sent = std::move(bytes);
-      }
-      if (IsTerminal(job.state)) return core::Status::Ok();
-      if (ctx->IsCancelled()) return core::Cancelled("watch cancelled");
-      if (hub_.closed()) return core::Unavailable("seepd is shutting down");
-      hub_.WaitForChange(version, std::chrono::seconds(1));
+  return Guarded(ctx, "WatchJob", [&]() -> grpc::Status {
+    if (core::Status s = RequireId(req->id(), "id"); !s.ok()) return ToGrpcStatus(s);
+    // Followed before the first read, so that no change after it goes unseen.
+    const std::optional<JobHub::Follower> follower =
+        hub_.Follow(req->id(), guards_.max_watch_streams);
+    if (!follower) {
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              fmt::format("WatchJob: {} streams follow jobs already, the most this seepd serves "
+                          "at once (--max-watch-streams); try again later or poll GetJob",
+                          guards_.max_watch_streams)};
     }
+    return ToGrpcStatus(StreamJob(*ctx, req->id(), *follower, *writer));
   });
+}
+
+core::Status SeepServiceImpl::StreamJob(grpc::ServerContext& ctx, const std::string& id,
+                                        const JobHub::Follower& follower,
+                                        grpc::ServerWriter<v1::JobEvent>& writer) {
+  // Only this job's changes wake the stream. Progress alone is laid over the record read last;
+  // the store (without the scene) is read again when the record changed, and once a second for
+  // what the hub never hears of.
+  JobHub::Versions seen = follower.versions();
+  SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.GetWithoutScene(id));
+  std::string last_sent;
+  for (;;) {
+    if (job.state == JobState::kRunning) {
+      if (auto live = follower.live()) job.progress = std::move(*live);
+    }
+    v1::JobEvent event;
+    JobToProto(job, /*with_scene=*/false, event.mutable_job());
+    if (event.job().has_result()) *event.mutable_result() = event.job().result();
+    std::string bytes = event.SerializeAsString();
+    if (bytes != last_sent) {
+      if (!writer.Write(event)) return core::Cancelled("watcher went away");
+      last_sent = std::move(bytes);
+    }
+    if (IsTerminal(job.state)) return core::Status::Ok();
+    if (ctx.IsCancelled()) return core::Cancelled("watch cancelled");
+    if (hub_.closed()) return core::Unavailable("seepd is shutting down");
+    const JobHub::Versions now = follower.WaitForChange(seen, std::chrono::seconds(1));
+    if (now.record != seen.record || now == seen) {
+      SEEP_ASSIGN_OR_RETURN(job, store_.GetWithoutScene(id));
+    }
+    seen = now;
+  }
 }
 
 grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
@@ -191,7 +217,7 @@ grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* ctx, const v1::Canc
     } else {
       logger_->info("job {}: cancelled before it started", job.id);
     }
-    hub_.NotifyChanged();
+    hub_.RecordChanged(job.id);
     SEEP_ASSIGN_OR_RETURN(const JobRecord current, LoadJob(job.id));
     JobToProto(current, /*with_scene=*/false, resp->mutable_job());
     return core::Status::Ok();
@@ -204,7 +230,7 @@ grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* ctx, const v1::Resu
     SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
     SEEP_ASSIGN_OR_RETURN(const JobRecord job, store_.Resume(req->id()));
     logger_->info("job {}: resumed as attempt {} (runs again from the start)", job.id, job.attempt);
-    hub_.NotifyChanged();
+    hub_.RecordChanged(job.id);
     if (hooks_.wake_workers) hooks_.wake_workers();
     JobToProto(job, /*with_scene=*/false, resp->mutable_job());
     return core::Status::Ok();

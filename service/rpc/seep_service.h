@@ -16,6 +16,7 @@
 
 #include "jobs/job_hub.h"
 #include "jobs/physics_pool.h"
+#include "metrics/service_metrics.h"
 #include "rpc/bearer_auth.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "store/job_store.h"
@@ -28,19 +29,27 @@ struct ServiceHooks {
   std::function<void(const std::string&)> cancel_running;  // stop this RUNNING job now
 };
 
-// Who may call and how big a request may be. Defaults: no token, 32 MiB scenes.
+// Who may call, how big a request and a response may be, how many streams may follow jobs.
+// Defaults: no token, 32 MiB scenes, 64 MiB field responses, 100 watch streams.
 inline constexpr std::size_t kDefaultMaxSceneBytes = 32u << 20;
+inline constexpr std::size_t kDefaultMaxResponseBytes = 64u << 20;
+inline constexpr int kDefaultMaxWatchStreams = 100;
 struct ServiceGuards {
   const BearerAuth* auth = nullptr;  // null: no token required (owned by the caller)
   std::size_t max_scene_bytes = kDefaultMaxSceneBytes;
+  // GetJobFields refuses (RESOURCE_EXHAUSTED, with the size) a response larger than this.
+  std::size_t max_response_bytes = kDefaultMaxResponseBytes;
+  // WatchJob streams open at once (each holds a server thread); more: RESOURCE_EXHAUSTED.
+  int max_watch_streams = kDefaultMaxWatchStreams;
 };
 
 class SeepServiceImpl final : public v1::SeepService::Service {
  public:
   // `physics` runs GetJobFields' physics (owned by the caller, outlives the service).
+  // `metrics` (optional, owned by the caller) counts every call by method and code.
   SeepServiceImpl(JobStore& store, JobHub& hub, PhysicsPool& physics, std::string build_id,
                   ServiceHooks hooks, std::shared_ptr<spdlog::logger> logger,
-                  ServiceGuards guards = {});
+                  ServiceGuards guards = {}, ServiceMetrics* metrics = nullptr);
 
   // The seep.v1.SeepService calls (job_service.proto says what each does).
   using Ctx = grpc::ServerContext;
@@ -79,6 +88,11 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   // calibration that fails its checks.
   core::Result<PreparedCalibration> PrepareCalibrationJob(const v1::Calibration& calibration);
 
+  // WatchJob's stream of one job, until it is terminal, the call ends or seepd shuts down.
+  core::Status StreamJob(grpc::ServerContext& ctx, const std::string& id,
+                         const JobHub::Follower& follower,
+                         grpc::ServerWriter<v1::JobEvent>& writer);
+
   // The stored job with the hub's live progress laid over it.
   core::Result<JobRecord> LoadJob(const std::string& id);
 
@@ -89,6 +103,7 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   ServiceHooks hooks_;
   std::shared_ptr<spdlog::logger> logger_;
   ServiceGuards guards_;
+  ServiceMetrics* metrics_;
 };
 
 }  // namespace seep::service

@@ -129,7 +129,16 @@ grpc::Status SeepServiceImpl::GetJobFields(grpc::ServerContext* ctx,
                   [job = std::move(*job), records = std::move(*records),
                    candidates = std::move(candidates), logger = logger_,
                    out] { return RestoreAndCollect(job, records, candidates, logger, out.get()); });
-    if (status.ok()) resp->Swap(out.get());
+    if (!status.ok()) return status;
+    // Bounded, so that no client is sent more than it can take (gRPC's own send limit would
+    // only say RESOURCE_EXHAUSTED without the figures).
+    if (const std::size_t bytes = out->ByteSizeLong(); bytes > guards_.max_response_bytes) {
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              fmt::format("GetJobFields: the fields of job {} at step {} take {} bytes, over the "
+                          "limit of {} bytes per response (seepd --max-response-bytes)",
+                          out->job_id(), out->step(), bytes, guards_.max_response_bytes)};
+    }
+    resp->Swap(out.get());
     return status;
   });
 }

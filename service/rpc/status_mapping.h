@@ -8,5 +8,7 @@
 namespace seep::service {
 
 grpc::Status ToGrpcStatus(const core::Status& status);
+// The canonical name of a gRPC code ("OK", "NOT_FOUND", ...), for logs and metrics labels.
+const char* GrpcCodeName(grpc::StatusCode code);
 
 }  // namespace seep::service

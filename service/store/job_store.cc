@@ -353,8 +353,10 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
 }
 
 Result<JobRecord> JobStore::GetLocked(const std::string& id, bool with_scene) {
-  SEEP_ASSIGN_OR_RETURN(
-      Stmt s, db_->Prepare(fmt::format("SELECT {}, scene FROM jobs WHERE id = ?", kJobColumns)));
+  // Without the scene, its column is not even read (it can be megabytes).
+  SEEP_ASSIGN_OR_RETURN(Stmt s,
+                        db_->Prepare(fmt::format("SELECT {}{} FROM jobs WHERE id = ?", kJobColumns,
+                                                 with_scene ? ", scene" : "")));
   s.Bind(1, std::string_view(id));
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return core::NotFound(fmt::format("job {} not found", id));
@@ -395,6 +397,11 @@ Result<JobRecord> JobStore::Get(const std::string& id) {
   const StoreOperation operation("get job");
   std::lock_guard lock(mutex_);
   return GetLocked(id, /*with_scene=*/true);
+}
+
+Result<JobRecord> JobStore::GetWithoutScene(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  return GetLocked(id, /*with_scene=*/false);
 }
 
 Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> cursor,

@@ -89,6 +89,10 @@ class JobStore {
   // Stores a new QUEUED job; with a request_id already present, returns that job instead.
   Result<InsertOutcome> Insert(const JobRecord& job);
   Result<JobRecord> Get(const std::string& id);
+  // Get without the scene bytes (left empty): for readers that never show it, such as watchers.
+  Result<JobRecord> GetWithoutScene(const std::string& id);
+  // Every state with its number of jobs (0 included), in the order of JobState.
+  Result<std::vector<std::pair<JobState, std::int64_t>>> CountByState();
   // Newest first; cursor is the next_cursor of the previous page (with the same filter).
   Result<JobPage> List(std::uint32_t limit, std::optional<std::int64_t> cursor,
                        const JobFilter& filter = {});

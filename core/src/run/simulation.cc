@@ -67,7 +67,8 @@ Status Simulation::Run(const RunControl& control) {
       control.on_progress({step(), time_s(), fraction()});
     }
   }
-  return Status::Ok();
+  // A finished run's report must hold numbers only: a NaN here is a failed run, named.
+  return CheckMetricsFinite(stepper_->Measure());
 }
 
 RunReport Simulation::Report() const {

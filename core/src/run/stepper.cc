@@ -109,6 +109,7 @@ Status Stepper::SetClock() {
   sample_every_ = solver.progress_every > 0
                       ? solver.progress_every
                       : std::max<std::uint64_t>(1, total_steps_ / kDefaultProgressReports);
+  series_stride_ = sample_every_;
   return Status::Ok();
 }
 
@@ -262,8 +263,41 @@ Status Stepper::Step() {
 }
 
 void Stepper::Sample() {
-  series_.values.push_back(time_s_);
-  for (const Effect* effect : sample_order_) effect->AddSample(state_, &series_.values);
+  latest_sample_.clear();
+  latest_sample_.push_back(time_s_);
+  for (const Effect* effect : sample_order_) effect->AddSample(state_, &latest_sample_);
+  if (step_ % series_stride_ != 0 && !finished()) return;
+  series_.values.insert(series_.values.end(), latest_sample_.begin(), latest_sample_.end());
+  if (series_.rows() > kMaxSeriesRows) HalveSeries();
+}
+
+void Stepper::HalveSeries() {
+  const std::size_t width = series_.columns.size();
+  const std::size_t rows = series_.rows();
+  std::size_t kept = 0;
+  for (std::size_t row = 0; row < rows; row += 2, ++kept) {
+    std::copy_n(series_.values.begin() + static_cast<std::ptrdiff_t>(row * width), width,
+                series_.values.begin() + static_cast<std::ptrdiff_t>(kept * width));
+  }
+  series_.values.resize(kept * width);
+  series_stride_ *= 2;
+}
+
+std::uint64_t Stepper::SeriesStrideAt(std::uint64_t step) const {
+  // Rows 0, stride, 2 stride, ... up to step: a halving happened once they would exceed the cap.
+  std::uint64_t stride = sample_every_;
+  while (step / stride + 1 > kMaxSeriesRows) stride *= 2;
+  return stride;
+}
+
+Status CheckMetricsFinite(const Metrics& metrics) {
+  for (const auto& [name, value] : metrics) {
+    if (!std::isfinite(value)) {
+      return FailedPrecondition(
+          fmt::format("report: metric '{}' is not a finite number (got {})", name, value));
+    }
+  }
+  return Status::Ok();
 }
 
 Metrics Stepper::Measure() const {

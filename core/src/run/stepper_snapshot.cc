@@ -152,6 +152,12 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   state_.books.step_error = snap.step_mass_balance_error;
   state_.books.worst_error = snap.worst_mass_balance_error;
   series_ = snap.series;
+  series_stride_ = SeriesStrideAt(step_);
+  const std::size_t width = series_.columns.size();
+  if (const std::size_t rows = series_.rows(); rows > 0) {
+    latest_sample_.assign(series_.values.end() - static_cast<std::ptrdiff_t>(width),
+                          series_.values.end());
+  }
   return Status::Ok();
 }
 

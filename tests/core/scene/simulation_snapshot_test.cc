@@ -3,11 +3,14 @@
 // service's checkpoints rely on).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stop_token>
 
 #include "scene_test_util.h"
 #include "seep/core/run/simulation.h"
+#include "seep/core/run/stepper.h"
 
 namespace seep::core {
 namespace {
@@ -102,6 +105,37 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SnapshotResume,
                                                                             : "Implicit";
                          });
 
+// progress_every = 1 on a run of thousands of steps: the series is decimated to at most
+// kMaxSeriesRows rows (every other row dropped, the stride doubled), and a run resumed from a
+// snapshot taken between two halvings keeps the very same rows.
+TEST(SnapshotResume, SeriesStaysBoundedAndResumesWithTheSameRows) {
+  SceneSpec scene = TransientScene(SolverKind::kExplicit);
+  scene.solver.progress_every = 1;
+  scene.solver.end_time_s = 5.5e-4;  // about 5300 steps
+  auto reference = Simulation::Create(scene);
+  ASSERT_TRUE(reference.ok()) << reference.status().ToString();
+  const std::uint64_t total = reference->total_steps();
+  ASSERT_GT(total, 4 * Stepper::kMaxSeriesRows);
+  const SimulationSnapshot expected = RunToEnd(*reference);
+  EXPECT_LE(expected.series.rows(), Stepper::kMaxSeriesRows);
+  EXPECT_GT(expected.series.rows(), Stepper::kMaxSeriesRows / 2);
+  EXPECT_EQ(reference->stepper().series_stride() % 4, 0u);  // halved at least twice
+  // The newest sample is of the last step, whatever the series keeps.
+  EXPECT_EQ(reference->latest_sample().front(), reference->time_s());
+
+  // Cut at an odd step past the first halving: the stride is rebuilt from the step alone.
+  auto first = Simulation::Create(scene);
+  ASSERT_TRUE(first.ok());
+  const SimulationSnapshot carried = RunUntil(*first, 2 * Stepper::kMaxSeriesRows + 3);
+  auto last = Simulation::Create(scene);
+  ASSERT_TRUE(last.ok());
+  ASSERT_TRUE(last->Restore(carried).ok());
+  EXPECT_EQ(last->stepper().series_stride(), first->stepper().series_stride());
+  const SimulationSnapshot resumed = RunToEnd(*last);
+  EXPECT_TRUE(BitIdentical(resumed.series.values, expected.series.values));
+  EXPECT_TRUE(BitIdentical(resumed.pressure, expected.pressure));
+}
+
 TEST(SnapshotRestore, SnapshotOfAnotherSceneIsRefusedAndLeavesTheStateAlone) {
   auto small = Simulation::Create(TransientScene(SolverKind::kExplicit));
   ASSERT_TRUE(small.ok());
@@ -127,6 +161,17 @@ TEST(SnapshotRestore, NonFinitePressureIsRefused) {
   const Status status = sim->Restore(snap);
   EXPECT_EQ(status.code(), StatusCode::kDataLoss);
   EXPECT_NE(status.message().find("snapshot.pressure[1]"), std::string::npos);
+}
+
+// A report is checked where it is measured: a metric that is not a number is named.
+TEST(RunReport, AMetricThatIsNotFiniteIsNamed) {
+  EXPECT_TRUE(CheckMetricsFinite({{"inflow_m2_per_s", 1e-6}, {"steps", 3}}).ok());
+  const Status nan =
+      CheckMetricsFinite({{"inflow_m2_per_s", 1e-6}, {"permeability_m2", std::nan("")}});
+  EXPECT_EQ(nan.code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(nan.message(), "report: metric 'permeability_m2' is not a finite number (got nan)");
+  EXPECT_EQ(CheckMetricsFinite({{"p_max", -std::numeric_limits<double>::infinity()}}).message(),
+            "report: metric 'p_max' is not a finite number (got -inf)");
 }
 
 }  // namespace

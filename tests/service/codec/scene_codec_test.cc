@@ -12,6 +12,7 @@
 #include <string>
 
 #include "bad_scenes.h"
+#include "codec/state_size_estimate.h"
 
 namespace seep::service {
 namespace {
@@ -101,6 +102,56 @@ TEST(SceneCodec, ConvertsTheExampleScenes) {
     ASSERT_TRUE(spec.ok()) << spec.status().ToString();
     EXPECT_EQ(spec->boundary.radial.has_value(), std::string(name) == "thiem_radial.textproto");
   }
+}
+
+TEST(SceneCodec, ProgressIntervalBeyondTheLimitIsNamed) {
+  v1::Scene scene = ValidScene();
+  scene.mutable_solver()->set_progress_every(1);  // any small interval is fine
+  EXPECT_TRUE(SceneFromProto(scene).ok());
+  scene.mutable_solver()->set_progress_every(std::uint64_t{1} << 40);
+  auto spec = SceneFromProto(scene);
+  ASSERT_FALSE(spec.ok());
+  EXPECT_EQ(spec.status().code(), core::StatusCode::kInvalidArgument);
+  EXPECT_EQ(spec.status().message().rfind("scene.solver.progress_every: at most 1000000000", 0), 0u)
+      << spec.status().message();
+}
+
+// A lattice whose particles move: 12 million disks would need more than protobuf's 2 GiB per
+// checkpoint, so the scene is refused at submit with the figures; 1 million fit.
+TEST(SceneCodec, StateThatCannotBeCheckpointedIsRefusedWithTheNumbers) {
+  v1::Scene scene = ValidScene();
+  auto* law = scene.add_effects()->mutable_contacts()->mutable_law();
+  law->set_kn_n_per_m(1e8);
+  law->set_kt_n_per_m(5e7);
+  law->set_friction(0.5);
+  law->set_damping(v1::NORMAL_DAMPING_CRITICAL_RATIO);
+  law->set_damping_ratio(0.3);
+  scene.mutable_effects(0)->mutable_contacts()->set_density_kg_m3(2650);
+  scene.mutable_effects(0)->mutable_contacts()->set_dt_safety(0.2);
+  auto* lattice = scene.mutable_packing()->mutable_lattice();
+  lattice->set_columns(1000);
+  lattice->set_rows(1000);
+  auto fits = SceneFromProto(scene);
+  ASSERT_TRUE(fits.ok()) << fits.status().ToString();
+  EXPECT_LT(EstimateStateSize(*fits).total_bytes, kMaxSerializedStateBytes);
+
+  lattice->set_columns(4000);
+  lattice->set_rows(3000);
+  auto spec = SceneFromProto(scene);
+  ASSERT_FALSE(spec.ok());
+  EXPECT_EQ(spec.status().code(), core::StatusCode::kInvalidArgument);
+  const std::string message = spec.status().message();
+  EXPECT_EQ(message.rfind("scene.packing: a checkpoint of this scene's state would take up to ", 0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("12000000 particles x "), std::string::npos) << message;
+  EXPECT_NE(message.find("over the 2147483647 bytes protobuf can serialize"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("use at most "), std::string::npos) << message;
+
+  // The same lattice on a frozen packing keeps only pressures: it fits.
+  scene.clear_effects();
+  EXPECT_TRUE(SceneFromProto(scene).ok());
 }
 
 class SceneCodecRejects : public ::testing::TestWithParam<BadScene> {};

@@ -134,23 +134,6 @@ class CrashRecovery : public GrpcSeepdTest {
     }
     return recorded;
   }
-
-  // The same scenes run once without interruption: the expected final-state hashes.
-  std::vector<std::string> ReferenceHashes(const std::vector<v1::Scene>& scenes) {
-    Start("reference", {"--workers", "2"});
-    std::vector<std::string> ids;
-    for (const auto& s : scenes) ids.push_back(Submit(s));
-    auto jobs = WaitAllTerminal(ids, std::chrono::seconds(300));
-    std::vector<std::string> hashes;
-    for (const auto& id : ids) {
-      EXPECT_EQ(jobs[id].state(), v1::JOB_STATE_SUCCEEDED) << jobs[id].DebugString();
-      EXPECT_EQ(jobs[id].result().state_sha256().size(), 64u);
-      hashes.push_back(jobs[id].result().state_sha256());
-    }
-    stub_.reset();
-    EXPECT_EQ(server_.Stop(SIGTERM), 0);
-    return hashes;
-  }
 };
 
 // The hydraulic-fracturing example cut short after its breakdown: moving particles, bonds
@@ -170,8 +153,11 @@ TEST_F(CrashRecovery, SigkillAtRandomPointsEndsBitIdenticalToAnUninterruptedRun)
   const std::vector<std::string> expected = ReferenceHashes(scenes);
   ASSERT_FALSE(HasFailure());
 
-  // Checkpoints on a short wall-time trigger, so they land at steps nobody chose.
-  const std::vector<std::string> flags = {"--workers", "2", "--checkpoint-interval-s", "0.15"};
+  // Checkpoints on a short wall-time trigger, so they land at steps nobody chose. A slow build
+  // (the sanitizers') may be killed again before a job's next checkpoint: interruptions without
+  // progress are this test's doing, not a crash loop.
+  const std::vector<std::string> flags = {
+      "--workers", "2", "--checkpoint-interval-s", "0.15", "--max-interruptions", "1000"};
   Start("crash", flags);
   std::vector<std::string> ids;
   for (const auto& s : scenes) ids.push_back(Submit(s));
@@ -187,14 +173,8 @@ TEST_F(CrashRecovery, SigkillAtRandomPointsEndsBitIdenticalToAnUninterruptedRun)
     ++kills;
     Start("crash", flags);
   }
-  auto jobs = WaitAllTerminal(ids, std::chrono::seconds(300));
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const v1::Job& job = jobs[ids[i]];
-    ASSERT_EQ(job.state(), v1::JOB_STATE_SUCCEEDED) << job.DebugString();
-    EXPECT_EQ(job.result().state_sha256(), expected[i])
-        << job.name() << ": final state differs from the uninterrupted run (seed " << seed << ", "
-        << kills << " kills)";
-  }
+  ExpectBitIdenticalToUninterrupted(
+      ids, expected, "seed " + std::to_string(seed) + ", " + std::to_string(kills) + " kills");
   // At least one job really continued from a checkpoint (not only from the start).
   const std::string log = ReadFile(dir_ / "crash.out");
   EXPECT_NE(log.find("resumed from checkpoint"), std::string::npos) << log;

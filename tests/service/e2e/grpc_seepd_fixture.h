@@ -149,6 +149,41 @@ class GrpcSeepdTest : public ::testing::Test {
     }
   }
 
+  // The scenes run once without interruption on a fresh data folder `data`: the expected
+  // final-state hashes, in the order of the scenes. seepd is stopped afterwards.
+  std::vector<std::string> ReferenceHashes(const std::vector<v1::Scene>& scenes,
+                                           const std::vector<std::string>& flags = {"--workers",
+                                                                                    "2"},
+                                           const std::string& data = "reference") {
+    Start(data, flags);
+    std::vector<std::string> ids;
+    for (const auto& s : scenes) ids.push_back(Submit(s));
+    auto jobs = WaitAllTerminal(ids, std::chrono::seconds(300));
+    std::vector<std::string> hashes;
+    for (const auto& id : ids) {
+      EXPECT_EQ(jobs[id].state(), v1::JOB_STATE_SUCCEEDED) << jobs[id].DebugString();
+      EXPECT_EQ(jobs[id].result().state_sha256().size(), 64u);
+      hashes.push_back(jobs[id].result().state_sha256());
+    }
+    stub_.reset();
+    EXPECT_EQ(server_.Stop(SIGTERM), 0);
+    return hashes;
+  }
+
+  // Waits for the jobs, then expects each SUCCEEDED with the hash of its uninterrupted run
+  // (`expected`, in the order of `ids`); `how` says what interrupted them, for the message.
+  void ExpectBitIdenticalToUninterrupted(const std::vector<std::string>& ids,
+                                         const std::vector<std::string>& expected,
+                                         const std::string& how) {
+    auto jobs = WaitAllTerminal(ids, std::chrono::seconds(300));
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const v1::Job& job = jobs[ids[i]];
+      ASSERT_EQ(job.state(), v1::JOB_STATE_SUCCEEDED) << job.DebugString();
+      EXPECT_EQ(job.result().state_sha256(), expected[i])
+          << job.name() << ": final state differs from the uninterrupted run (" << how << ")";
+    }
+  }
+
   std::filesystem::path dir_;
   ChildProcess server_;
   std::unique_ptr<v1::SeepService::Stub> stub_;

@@ -47,7 +47,7 @@ class GetJobFieldsTest : public ::testing::Test {
     physics_.emplace(/*threads=*/1, options.threads_per_job, /*max_waiting=*/4);
     service_.emplace(*store_, hub_, *physics_, "test",
                      ServiceHooks{[this] { runner_->Wake(); }, {}}, logger_,
-                     ServiceGuards{&*auth_, kDefaultMaxSceneBytes});
+                     ServiceGuards{&*auth_, kDefaultMaxSceneBytes, max_response_bytes_});
     grpc::ServerBuilder builder;
     int port = 0;
     builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
@@ -110,6 +110,7 @@ class GetJobFieldsTest : public ::testing::Test {
     return stub_->GetJobFields(ctx, request, out);
   }
 
+  std::size_t max_response_bytes_ = kDefaultMaxResponseBytes;
   std::filesystem::path dir_;
   std::unique_ptr<JobStore> store_;
   JobHub hub_;
@@ -187,6 +188,29 @@ TEST_F(GetJobFieldsTest, ACallPastItsDeadlineGivesUpAndItsTaskNeverRuns) {
   ASSERT_TRUE(busy->WaitFor(std::chrono::milliseconds(10000)));
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_EQ(physics_->tasks_run(), 1u);
+}
+
+// A server whose responses may hold 4 KiB: the lattice's fields are larger, so the call is
+// refused with the size and the limit instead of a bare transport error.
+class GetJobFieldsSmallResponseTest : public GetJobFieldsTest {
+ protected:
+  GetJobFieldsSmallResponseTest() { max_response_bytes_ = 4096; }
+};
+
+TEST_F(GetJobFieldsSmallResponseTest, AResponseOverTheLimitIsRefusedWithItsSize) {
+  const std::string id = RunJob();
+  grpc::ClientContext ctx;
+  Authorize(&ctx);
+  v1::GetJobFieldsResponse out;
+  const grpc::Status status = Fields(id, &ctx, &out);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+  EXPECT_NE(status.error_message().find("GetJobFields: the fields of job " + id + " at step"),
+            std::string::npos)
+      << status.error_message();
+  EXPECT_NE(status.error_message().find(
+                "over the limit of 4096 bytes per response (seepd --max-response-bytes)"),
+            std::string::npos)
+      << status.error_message();
 }
 
 }  // namespace

@@ -26,6 +26,28 @@ TEST_F(JobStoreTest, InsertThenGetRoundTrips) {
   EXPECT_EQ(store_->Get("missing").status().code(), core::StatusCode::kNotFound);
 }
 
+TEST_F(JobStoreTest, GetWithoutSceneLeavesTheSceneOut) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  auto job = store_->GetWithoutScene("a");
+  ASSERT_TRUE(job.ok()) << job.status().ToString();
+  EXPECT_EQ(job->name, "name-a");
+  EXPECT_TRUE(job->scene.empty());
+  EXPECT_EQ(store_->GetWithoutScene("missing").status().code(), core::StatusCode::kNotFound);
+}
+
+TEST_F(JobStoreTest, CountByStateListsEveryStateWithItsJobs) {
+  for (const char* id : {"a", "b", "c"}) ASSERT_TRUE(store_->Insert(NewJob(id)).ok());
+  ASSERT_TRUE(store_->ClaimNextQueued("owner", 2000, 30000).ok());
+  auto counts = store_->CountByState();
+  ASSERT_TRUE(counts.ok()) << counts.status().ToString();
+  const std::vector<std::pair<JobState, std::int64_t>> expected = {{JobState::kQueued, 2},
+                                                                   {JobState::kRunning, 1},
+                                                                   {JobState::kSucceeded, 0},
+                                                                   {JobState::kFailed, 0},
+                                                                   {JobState::kCancelled, 0}};
+  EXPECT_EQ(*counts, expected);
+}
+
 TEST_F(JobStoreTest, SameRequestIdReturnsTheFirstJob) {
   ASSERT_TRUE(store_->Insert(NewJob("a", "req-1")).ok());
   auto again = store_->Insert(NewJob("b", "req-1"));

@@ -76,7 +76,8 @@ class Simulation {
 
   // Advances until finished() or a stop request (kCancelled, the state stays at a step boundary
   // and can be snapshotted or run further). A numerical failure (non-finite pressure) is
-  // FAILED_PRECONDITION with what to change.
+  // FAILED_PRECONDITION with what to change, and so is a finished run whose report holds a
+  // metric that is not a finite number (naming it).
   Status Run(const RunControl& control);
 
   bool finished() const { return stepper_->finished(); }
@@ -94,8 +95,10 @@ class Simulation {
   std::vector<double> PoreVolumes() const { return stepper_->ReportedPoreVolumes(); }
   // The step loop: live state, effects, hook lists, per-effect timings.
   const Stepper& stepper() const { return *stepper_; }
-  // The samples so far; the last row is the newest (live progress shows it).
+  // The samples kept so far, at most Stepper::kMaxSeriesRows rows (see stepper.h).
   const TimeSeries& series() const { return stepper_->series(); }
+  // The newest sample, one value per series column (live progress shows it).
+  const std::vector<double>& latest_sample() const { return stepper_->latest_sample(); }
 
   // The measurements of the current state (the final ones once Run() returned OK).
   RunReport Report() const;

@@ -20,6 +20,11 @@
 //                     stiffness when pressure follows deformation); time = step x dt; a flow
 //                     update every `flow_every` steps (FlowEffectSpec::every_steps) and at the end;
 //   steady            one step, no time.
+//
+// The time series stays bounded whatever the progress interval: a row is kept every
+// `series_stride()` steps, which starts at the progress interval; when a new row would make more
+// than kMaxSeriesRows, every other row is dropped and the stride doubles. The stride is a function
+// of the step alone (SeriesStrideAt), so a resumed run keeps the very rows of an uninterrupted one.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +42,9 @@ namespace seep::core {
 
 class Stepper {
  public:
+  // Most rows the time series holds (even, so that a halving keeps the newest row).
+  static constexpr std::size_t kMaxSeriesRows = 1024;
+
   // `net` is the network built at set-up (for scenes with flow), else only its packing is used.
   static Result<std::unique_ptr<Stepper>> Create(const SceneSpec& scene, SceneNetwork net,
                                                  bool has_network);
@@ -54,6 +62,11 @@ class Stepper {
   const SceneSpec& scene() const { return scene_; }
   const LiveState& state() const { return state_; }
   const TimeSeries& series() const { return series_; }
+  // Steps between two rows of series() now (a multiple of sample_every()).
+  std::uint64_t series_stride() const { return series_stride_; }
+  // The newest sample (one value per series column), taken every sample_every() steps whether
+  // or not series() keeps it: what live progress shows.
+  const std::vector<double>& latest_sample() const { return latest_sample_; }
   // One line for the log: the step, the step count, the flow interval and the hook lists.
   std::string Describe() const;
 
@@ -84,6 +97,12 @@ class Stepper {
   Status CheckParticlesFinite(std::uint64_t step) const;
   StepInfo NextStep() const;
   void Sample();
+  // The series stride at `step`: sample_every() doubled for every halving that an uninterrupted
+  // run makes up to that step.
+  std::uint64_t SeriesStrideAt(std::uint64_t step) const;
+  // Drops every other row (the odd ones: row k was sampled at step k x stride) and doubles the
+  // stride.
+  void HalveSeries();
   void SaveMechanics(MechanicsSnapshot* out) const;
   Status RestoreMechanics(const MechanicsSnapshot& snap, const std::vector<double>& pressure);
 
@@ -103,7 +122,13 @@ class Stepper {
   std::uint64_t flow_every_ = 1;
   std::uint64_t step_ = 0;
   double time_s_ = 0.0;
+  std::uint64_t series_stride_ = 1;
   TimeSeries series_;
+  std::vector<double> latest_sample_;
 };
+
+// OK when every metric is a finite number; else FAILED_PRECONDITION naming the first one that is
+// not (a report is refused where it is measured, not where it is stored).
+Status CheckMetricsFinite(const Metrics& metrics);
 
 }  // namespace seep::core
