@@ -57,15 +57,12 @@ void DomainWalls::Clear() {
   vertex_y.clear();
   edge_wall.clear();
   edge_particle.clear();
-  edge_lo.clear();
-  edge_hi.clear();
   edge_gap.clear();
 }
 
 std::size_t DomainWalls::MemoryBytes() const {
   return Bytes(vertex_wall) + Bytes(vertex_other_wall) + Bytes(vertex_particle) + Bytes(vertex_x) +
-         Bytes(vertex_y) + Bytes(edge_wall) + Bytes(edge_particle) + Bytes(edge_lo) +
-         Bytes(edge_hi) + Bytes(edge_gap);
+         Bytes(vertex_y) + Bytes(edge_wall) + Bytes(edge_particle) + Bytes(edge_gap);
 }
 
 WallContactList FindWallContacts(const Packing& packing, std::span<const WallLine> walls,
@@ -183,8 +180,6 @@ Status BuildWallGraph(const Packing& packing, const ContactList& contacts,
                       double gap) {
     dw.edge_wall.push_back(wall);
     dw.edge_particle.push_back(particle);
-    dw.edge_lo.push_back(std::min(a, b));
-    dw.edge_hi.push_back(std::max(a, b));
     dw.edge_gap.push_back(gap);
     graph_contacts->i.push_back(std::min(a, b));
     graph_contacts->j.push_back(std::max(a, b));

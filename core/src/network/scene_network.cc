@@ -129,6 +129,38 @@ bool LoopContains(const Packing& p, const DomainNetwork& d, std::size_t domain, 
   return inside;
 }
 
+// A pipe of the flow network across detection contact `contact` (a wall edge included), with
+// its gap for the conductance and its contact for later aperture updates.
+void AddPipe(SceneNetwork& net, FlowNetworkData& data, std::vector<double>& gaps, std::int32_t a,
+             std::int32_t b, std::int32_t contact, double length) {
+  data.pipe_domain_a.push_back(a);
+  data.pipe_domain_b.push_back(b);
+  data.pipe_length.push_back(length);
+  gaps.push_back(DetectionContactGap(net, contact));
+  net.pipe_contact.push_back(contact);
+}
+
+// The part every boundary shares: the detected domains, free at the initial pressure, then
+// `reservoirs` nodes without volume (free until the caller fixes them), and the interior pipes.
+FlowNetworkData DomainsAndInteriorPipes(const SceneSpec& scene, SceneNetwork& net,
+                                        std::size_t reservoirs, std::vector<double>& gaps) {
+  const DomainNetwork& d = net.domains;
+  const std::size_t nodes = d.num_domains() + reservoirs;
+  FlowNetworkData data;
+  data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
+  data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
+  data.apparent_volume.resize(nodes, 0.0);
+  data.pore_volume.resize(nodes, 0.0);
+  data.pressure.assign(nodes, scene.boundary.initial_pressure_pa);
+  data.role.assign(nodes, DomainRole::kFree);
+  data.source_rate.assign(nodes, 0.0);
+  for (std::size_t k = 0; k < d.num_pipes(); ++k) {
+    AddPipe(net, data, gaps, d.pipe_domain_a[k], d.pipe_domain_b[k], d.pipe_contact[k],
+            d.pipe_length[k]);
+  }
+  return data;
+}
+
 // Whether boundary pipe k of the detection lies on a wall (a stretch, or a foot facing an open
 // side): the walls decide its flow, not the linear or radial rules.
 bool OnWall(const DomainNetwork& d, std::size_t k) {
@@ -195,15 +227,9 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
         radial.well_radius_m));
   }
 
-  FlowNetworkData data;
-  const std::size_t nodes = num_domains + 1;
+  std::vector<double> gaps;
+  FlowNetworkData data = DomainsAndInteriorPipes(scene, net, 1, gaps);
   net.outer_node = static_cast<std::int32_t>(num_domains);
-  data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
-  data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
-  data.apparent_volume.resize(nodes, 0.0);
-  data.pore_volume.resize(nodes, 0.0);
-  data.pressure.assign(nodes, scene.boundary.initial_pressure_pa);
-  data.role.assign(nodes, DomainRole::kFree);
   if (net.well_domain >= 0) {
     const auto well = static_cast<std::size_t>(net.well_domain);
     data.pressure[well] = radial.well_pressure_pa;
@@ -211,16 +237,6 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
   }
   data.pressure[num_domains] = radial.outer_pressure_pa;
   data.role[num_domains] = DomainRole::kFixedPressure;
-  data.source_rate.assign(nodes, 0.0);
-
-  std::vector<double> gaps;
-  for (std::size_t k = 0; k < d.num_pipes(); ++k) {
-    data.pipe_domain_a.push_back(d.pipe_domain_a[k]);
-    data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
-    data.pipe_length.push_back(d.pipe_length[k]);
-    gaps.push_back(DetectionContactGap(net, d.pipe_contact[k]));
-    net.pipe_contact.push_back(d.pipe_contact[k]);
-  }
   // Every contact of a top-level outer loop drains into the outer reservoir. The reservoir's
   // radius is the conductance-weighted mean distance of the images of the interior centroids
   // reflected through the contact points (as for the linear ends, see the header).
@@ -230,11 +246,8 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
     if (d.outer_host_domain[static_cast<std::size_t>(d.boundary_pipe_outer_face[k])] >= 0) continue;
     if (OnWall(d, k)) continue;
     const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
-    data.pipe_domain_a.push_back(d.boundary_pipe_domain[k]);
-    data.pipe_domain_b.push_back(net.outer_node);
-    data.pipe_length.push_back(d.boundary_pipe_length[k]);
-    gaps.push_back(net.contacts.gap[static_cast<std::size_t>(d.boundary_pipe_contact[k])]);
-    net.pipe_contact.push_back(d.boundary_pipe_contact[k]);
+    AddPipe(net, data, gaps, d.boundary_pipe_domain[k], net.outer_node, d.boundary_pipe_contact[k],
+            d.boundary_pipe_length[k]);
     image_radius.push_back(
         std::hypot(2.0 * d.boundary_pipe_x[k] - d.centroid_x[host] - net.well_x_m,
                    2.0 * d.boundary_pipe_y[k] - d.centroid_y[host] - net.well_y_m));
@@ -362,20 +375,8 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
     return net;
   }
   if (scene.boundary.walls_only) {
-    FlowNetworkData data;
-    data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
-    data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
-    data.pressure.assign(num_domains, scene.boundary.initial_pressure_pa);
-    data.role.assign(num_domains, DomainRole::kFree);
-    data.source_rate.assign(num_domains, 0.0);
     std::vector<double> gaps;
-    for (std::size_t k = 0; k < d.num_pipes(); ++k) {
-      data.pipe_domain_a.push_back(d.pipe_domain_a[k]);
-      data.pipe_domain_b.push_back(d.pipe_domain_b[k]);
-      data.pipe_length.push_back(d.pipe_length[k]);
-      gaps.push_back(DetectionContactGap(net, d.pipe_contact[k]));
-      net.pipe_contact.push_back(d.pipe_contact[k]);
-    }
+    FlowNetworkData data = DomainsAndInteriorPipes(scene, net, 0, gaps);
     AddDrainedWalls(scene, net, data, gaps);
     SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
     SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
@@ -393,33 +394,14 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   double domain_area = 0.0;
   for (double v : d.apparent_volume) domain_area += v;
 
-  FlowNetworkData data;
-  const std::size_t nodes = num_domains + 2;
+  std::vector<double> gaps;
+  FlowNetworkData data = DomainsAndInteriorPipes(scene, net, 2, gaps);
   net.inlet_node = static_cast<std::int32_t>(num_domains);
   net.outlet_node = static_cast<std::int32_t>(num_domains + 1);
-  data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
-  data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
-  data.apparent_volume.resize(nodes, 0.0);
-  data.pore_volume.resize(nodes, 0.0);
-  data.pressure.assign(nodes, scene.boundary.initial_pressure_pa);
   data.pressure[static_cast<std::size_t>(net.inlet_node)] = scene.boundary.inlet_pressure_pa;
   data.pressure[static_cast<std::size_t>(net.outlet_node)] = scene.boundary.outlet_pressure_pa;
-  data.role.assign(nodes, DomainRole::kFree);
   data.role[static_cast<std::size_t>(net.inlet_node)] = DomainRole::kFixedPressure;
   data.role[static_cast<std::size_t>(net.outlet_node)] = DomainRole::kFixedPressure;
-  data.source_rate.assign(nodes, 0.0);
-
-  std::vector<double> gaps;
-  auto add_pipe = [&](std::int32_t a, std::int32_t b, std::int32_t contact, double length) {
-    data.pipe_domain_a.push_back(a);
-    data.pipe_domain_b.push_back(b);
-    data.pipe_length.push_back(length);
-    gaps.push_back(DetectionContactGap(net, contact));
-    net.pipe_contact.push_back(contact);
-  };
-  for (std::size_t k = 0; k < d.num_pipes(); ++k) {
-    add_pipe(d.pipe_domain_a[k], d.pipe_domain_b[k], d.pipe_contact[k], d.pipe_length[k]);
-  }
   // Edge layer: particles whose extreme coordinate lies within one mean radius of the end.
   const double layer = net.mean_radius_m * (1.0 + 1e-9);
   for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
@@ -434,8 +416,8 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
                            AxisCoordinate(axis, p, j) + p.radius[j] >= high - layer;
     if (at_inlet == at_outlet) continue;  // a side wall, or a sample one particle long
     if (at_inlet && scene.boundary.closed_inlet) continue;  // the low end is a no-flow base
-    add_pipe(d.boundary_pipe_domain[k], at_inlet ? net.inlet_node : net.outlet_node,
-             d.boundary_pipe_contact[k], d.boundary_pipe_length[k]);
+    AddPipe(net, data, gaps, d.boundary_pipe_domain[k], at_inlet ? net.inlet_node : net.outlet_node,
+            d.boundary_pipe_contact[k], d.boundary_pipe_length[k]);
     const auto host = static_cast<std::size_t>(d.boundary_pipe_domain[k]);
     const double face = axis == FlowAxis::kX ? d.boundary_pipe_x[k] : d.boundary_pipe_y[k];
     const double centroid = axis == FlowAxis::kX ? d.centroid_x[host] : d.centroid_y[host];

@@ -18,9 +18,9 @@ using effects_test::BoxedLatticeScene;
 using effects_test::Contacts;
 using effects_test::kRadius;
 
-// A sealed box (every wall impermeable) of a 7 x 5 square... hex lattice at a uniform pressure P:
-// every wall takes P over the span of the pores it closes, which for a box touching the lattice
-// is its whole side, and the particles feel no net force at all.
+// A sealed box (every wall impermeable) of a 7 x 6 hex lattice at a uniform pressure P: every
+// wall takes P over the span of the pores it closes, which for a box touching the lattice is its
+// whole side.
 SceneSpec SealedBox(double pressure) {
   SceneSpec s = BoxedLatticeScene(7, 6);
   s.boundary.initial_pressure_pa = pressure;
@@ -49,13 +49,6 @@ TEST(WallsInFluid, AUniformPressurePushesEachWallWithPressureTimesItsSide) {
   EXPECT_NEAR(s.wall_pore_force[3], pressure * width, 1e-9 * pressure * width);    // top
 }
 
-}  // namespace
-}  // namespace seep::core
-
-namespace seep::core {
-namespace {
-
-using effects_test::BoxedLatticeScene;
 using effects_test::WithOpenEnds;
 
 // BoxedLatticeScene lists the walls second; its left wall (walls[1]) is drained.
@@ -63,32 +56,31 @@ WallSpec& LeftWall(SceneSpec& scene) {
   return std::get<WallsEffectSpec>(scene.effects[1]).walls[1];
 }
 
+// The scene is refused as InvalidArgument with a message that starts with `prefix`.
+void ExpectRefused(const SceneSpec& scene, const std::string& prefix) {
+  const Status status = ValidateScene(scene);
+  EXPECT_EQ(status.code(), StatusCode::kInvalidArgument) << status.message();
+  EXPECT_EQ(status.message().rfind(prefix, 0), 0u) << status.message();
+}
+
 TEST(WallsInFluid, BadDrainsAndAWallsOnlyBoundaryWithoutWallsAreNamed) {
   SceneSpec scene = BoxedLatticeScene(6, 6);
   ASSERT_TRUE(ValidateScene(scene).ok());
 
   LeftWall(scene).drain->pressure_pa = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(ValidateScene(scene).code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(ValidateScene(scene).message().rfind(
+  ExpectRefused(scene,
                 "scene.effects[1].walls.walls[1].drain.pressure_pa: a drained wall needs a finite "
-                "pressure",
-                0),
-            0u)
-      << ValidateScene(scene).message();
+                "pressure");
 
   scene = BoxedLatticeScene(6, 6);
   LeftWall(scene).drain->conductance_m_per_pa_s = 0.0;
-  EXPECT_EQ(ValidateScene(scene).message().rfind(
+  ExpectRefused(scene,
                 "scene.effects[1].walls.walls[1].drain.conductance_m_per_pa_s: must be a finite "
-                "number > 0",
-                0),
-            0u)
-      << ValidateScene(scene).message();
+                "number > 0");
 
   scene = BoxedLatticeScene(6, 6);
   scene.effects = {effects_test::Contacts(), FlowEffectSpec{}};
-  EXPECT_EQ(ValidateScene(scene).message().rfind("scene.boundary.axis: must be set", 0), 0u)
-      << ValidateScene(scene).message();
+  ExpectRefused(scene, "scene.boundary.axis: must be set");
   EXPECT_TRUE(ValidateScene(WithOpenEnds(scene)).ok());
 }
 

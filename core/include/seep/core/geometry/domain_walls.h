@@ -77,9 +77,9 @@ struct DomainWalls {
   // for an end or a corner), and its position at detection.
   std::vector<std::int32_t> vertex_wall, vertex_other_wall, vertex_particle;
   std::vector<double> vertex_x, vertex_y;
-  // Per edge: its wall, the particle of a foot edge (-1 for a stretch), the vertex ids of its two
-  // ends (lo < hi), the foot edge's gap (its wall contact's) or the stretch's length.
-  std::vector<std::int32_t> edge_wall, edge_particle, edge_lo, edge_hi;
+  // Per edge: its wall, the particle of a foot edge (-1 for a stretch), and the foot edge's gap
+  // (its wall contact's) or the stretch's length. Its two ends are the detection contact's i, j.
+  std::vector<std::int32_t> edge_wall, edge_particle;
   std::vector<double> edge_gap;
 
   std::size_t num_vertices() const { return vertex_wall.size(); }
