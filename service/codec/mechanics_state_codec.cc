@@ -114,6 +114,11 @@ core::EffectStates EffectStatesFromProto(const v1::MechanicsState& state) {
 
 void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::MechanicsState* out) {
   out->Clear();
+  out->set_dem_dt_s(snapshot.dt);
+  out->set_clock_step(snapshot.clock_step);
+  out->set_clock_time_s(snapshot.clock_time_s);
+  out->set_fluid_limited_dt_s(snapshot.fluid_limited_dt);
+  out->set_flow_every_steps(snapshot.flow_every);
   out->mutable_x()->Assign(snapshot.x.begin(), snapshot.x.end());
   out->mutable_y()->Assign(snapshot.y.begin(), snapshot.y.end());
   out->mutable_vx()->Assign(snapshot.vx.begin(), snapshot.vx.end());
@@ -150,6 +155,11 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
 
 core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state) {
   core::MechanicsSnapshot snap;
+  snap.dt = state.dem_dt_s();
+  snap.clock_step = state.clock_step();
+  snap.clock_time_s = state.clock_time_s();
+  snap.fluid_limited_dt = state.fluid_limited_dt_s();
+  snap.flow_every = state.flow_every_steps();
   snap.x.assign(state.x().begin(), state.x().end());
   snap.y.assign(state.y().begin(), state.y().end());
   snap.vx.assign(state.vx().begin(), state.vx().end());

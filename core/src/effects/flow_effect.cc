@@ -10,6 +10,7 @@
 #include "seep/core/effects/volume_change_effect.h"
 #include "seep/core/flow/steady_state_solver.h"
 #include "seep/core/flow/time_step_limit.h"
+#include "seep/core/network/fluid_boundaries.h"
 
 namespace seep::core {
 namespace {
@@ -22,6 +23,25 @@ Status CheckFinite(const FlowStepReport& r, const StepInfo& info) {
       info.step, info.time_s));
 }
 
+// The run's books (fluid_ledger.h): fluid_injected_m2, fluid_left_<boundary>_m2 per boundary,
+// fluid_stored_m2 (= compressed + pore growth), fluid_redetection_m2, fluid_handled_m2 and
+// fluid_balance_error, |imbalance| / handled.
+void AddLedgerMetrics(const SceneSpec& scene, const FluidLedger& ledger, Metrics* m) {
+  (*m)["fluid_injected_m2"] = ledger.injected_m2;
+  const std::vector<std::string> names = FluidBoundaryNames(scene);
+  for (std::size_t b = 0; b < names.size() && b < ledger.left_m2.size(); ++b) {
+    (*m)[fmt::format("fluid_left_{}_m2", names[b])] = ledger.left_m2[b];
+  }
+  (*m)["fluid_stored_m2"] = ledger.stored_m2();
+  (*m)["fluid_compressed_m2"] = ledger.compressed_m2;
+  (*m)["fluid_pore_growth_m2"] = ledger.pore_growth_m2;
+  (*m)["fluid_redetection_m2"] = ledger.redetection_m2;
+  (*m)["fluid_handled_m2"] = ledger.handled_m2;
+  (*m)["fluid_balance_error"] = ledger.relative_error();
+  if (ledger.since_step > 0)
+    (*m)["fluid_books_since_step"] = static_cast<double>(ledger.since_step);
+}
+
 }  // namespace
 
 Status FlowEffect::RefreshFluidWeight(LiveState& s) {
@@ -31,7 +51,34 @@ Status FlowEffect::RefreshFluidWeight(LiveState& s) {
   return ApplyHeadOffsets(node_weight_, &s.net.flow);
 }
 
-Status FlowEffect::Rebind(LiveState& s) { return RefreshFluidWeight(s); }
+Status FlowEffect::MapBoundaries(const LiveState& s) {
+  boundary_nodes_.clear();
+  if (mode_ == FlowMode::kSteady || !s.has_network) return Status::Ok();
+  SEEP_ASSIGN_OR_RETURN(const std::vector<std::int32_t> of, FluidBoundaryOfNodes(*s.scene, s.net));
+  for (std::size_t d = 0; d < of.size(); ++d) {
+    if (of[d] >= 0) boundary_nodes_.emplace_back(static_cast<std::int32_t>(d), of[d]);
+  }
+  tally_.Reset(s.net.flow.num_domains());
+  return Status::Ok();
+}
+
+void FlowEffect::Book(FluidLedger& ledger) {
+  ledger.injected_m2 += tally_.source_m2;
+  ledger.compressed_m2 += tally_.compressed_m2;
+  ledger.pore_growth_m2 += tally_.pore_growth_m2;
+  ledger.handled_m2 += tally_.source_m2 + tally_.boundary_gross_m2;
+  for (const auto& [node, boundary] : boundary_nodes_) {
+    double& out = tally_.node_outflow_m2[static_cast<std::size_t>(node)];
+    ledger.left_m2[static_cast<std::size_t>(boundary)] += out;
+    out = 0.0;
+  }
+  tally_.source_m2 = tally_.compressed_m2 = tally_.pore_growth_m2 = tally_.boundary_gross_m2 = 0.0;
+}
+
+Status FlowEffect::Rebind(LiveState& s) {
+  SEEP_RETURN_IF_ERROR(MapBoundaries(s));
+  return RefreshFluidWeight(s);
+}
 
 Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   const SceneSpec& scene = *s.scene;
@@ -47,6 +94,8 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     ApplyHydrostaticStart(scene, *weight_, node_weight_, &s.net.flow);
   }
   if (mode_ == FlowMode::kSteady) return Status::Ok();
+  s.books.ledger.left_m2.assign(FluidBoundaryNames(scene).size(), 0.0);
+  SEEP_RETURN_IF_ERROR(MapBoundaries(s));
   const StorageModel& storage = s.storage;
   if (scene.solver.kind == SolverKind::kExplicit) {
     ExplicitSolverOptions options;
@@ -102,12 +151,12 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   } else if (auto* explicit_solver = std::get_if<ExplicitSolver>(&solver_)) {
     if (mode_ == FlowMode::kStepped) {
       SEEP_ASSIGN_OR_RETURN(const FlowStepReport report,
-                            explicit_solver->Step(s.net.flow, info.flow_dt));
+                            explicit_solver->Step(s.net.flow, info.flow_dt, {}, &tally_));
       SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
       error = report.mass_balance_error;
     } else {
       SEEP_ASSIGN_OR_RETURN(const FlowAdvanceReport report,
-                            explicit_solver->Advance(s.net.flow, info.flow_dt, dv));
+                            explicit_solver->Advance(s.net.flow, info.flow_dt, dv, &tally_));
       SEEP_RETURN_IF_ERROR(CheckFinite(report.last, info));
       error = report.max_mass_balance_error;
       sub_steps = report.sub_steps;
@@ -115,8 +164,8 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
       limiting_domain_ = report.limiting_domain;
     }
   } else {
-    SEEP_ASSIGN_OR_RETURN(const FlowStepReport report,
-                          std::get<ImplicitSolver>(solver_).Step(s.net.flow, info.flow_dt, dv));
+    SEEP_ASSIGN_OR_RETURN(const FlowStepReport report, std::get<ImplicitSolver>(solver_).Step(
+                                                           s.net.flow, info.flow_dt, dv, &tally_));
     SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
     error = report.mass_balance_error;
     if (mode_ == FlowMode::kSubCycled) {
@@ -124,6 +173,7 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
       limiting_domain_ = report.limiting_domain;
     }
   }
+  if (mode_ != FlowMode::kSteady) Book(s.books.ledger);
   ++s.counters.flow_updates;
   s.counters.flow_sub_steps += static_cast<std::uint64_t>(sub_steps);
   s.books.step_error = error;
@@ -155,6 +205,7 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
   }
   effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_),
                                       node_weight_, m);
+  if (mode_ != FlowMode::kSteady) AddLedgerMetrics(*s.scene, s.books.ledger, m);
 }
 
 void FlowEffect::AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const {

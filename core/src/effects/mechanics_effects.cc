@@ -160,7 +160,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   // total (contacts + pore pressure) and effective (contacts alone).
   void AddMetrics(const LiveState& s, Metrics* m) const override {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
-      const char* side = SideName(spec_.walls[w].side);
+      const char* side = WallSideName(spec_.walls[w].side);
       (*m)[fmt::format("{}_wall_position_m", side)] = Position(s, w);
       (*m)[fmt::format("{}_wall_stress_pa", side)] = wall_stress_pa_[w];
       (*m)[fmt::format("{}_wall_effective_stress_pa", side)] = effective_stress_pa_[w];
@@ -169,7 +169,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
     for (const char* column : {"position_m", "stress_pa", "effective_stress_pa"}) {
       for (const WallSpec& w : spec_.walls) {
-        columns->push_back(fmt::format("{}_wall_{}", SideName(w.side), column));
+        columns->push_back(fmt::format("{}_wall_{}", WallSideName(w.side), column));
       }
     }
   }
@@ -180,19 +180,6 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   }
 
  private:
-  static const char* SideName(WallSide side) {
-    switch (side) {
-      case WallSide::kLeft:
-        return "left";
-      case WallSide::kRight:
-        return "right";
-      case WallSide::kBottom:
-        return "bottom";
-      case WallSide::kTop:
-        return "top";
-    }
-    return "unknown";
-  }
   double Position(const LiveState& s, std::size_t w) const {
     const WallSide side = spec_.walls[w].side;
     const bool vertical = side == WallSide::kLeft || side == WallSide::kRight;

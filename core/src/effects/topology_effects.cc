@@ -8,6 +8,7 @@
 
 #include "effect_factories.h"
 #include "seep/core/effects/effect_set.h"
+#include "seep/core/flow/storage_volume.h"
 #include "seep/core/log.h"
 #include "seep/core/network/pressure_remap.h"
 #include "seep/core/network/scene_walls.h"
@@ -16,6 +17,20 @@ namespace seep::core::effects_internal {
 namespace {
 
 bool SamePairs(const ContactList& a, const ContactList& b) { return a.i == b.i && a.j == b.j; }
+
+// sum V_s P over the domains whose fluid the books track (free and source), m^2 Pa. `source`:
+// a domain that counts although the network does not show it as a source yet (a fresh
+// network's injected well, made a source when the injection effect re-binds), or -1.
+double HeldFluid(const FlowNetwork& flow, const StorageModel& storage, std::int32_t source) {
+  const auto role = flow.role();
+  const auto pressure = flow.pressure();
+  double held = 0.0;
+  for (std::size_t d = 0; d < flow.num_domains(); ++d) {
+    if (role[d] == DomainRole::kFixedPressure && static_cast<std::int32_t>(d) != source) continue;
+    held += StorageVolumeOf(flow, storage, d) * pressure[d];
+  }
+  return held;
+}
 
 class RedetectionEffect final : public Effect {
  public:
@@ -78,6 +93,15 @@ class RedetectionEffect final : public Effect {
           injected_well_ && static_cast<std::int32_t>(d) == fresh.well_domain;
       if (roles[d] == DomainRole::kFree || injected_well) pressure[d] = remapped[d];
     }
+    PocketPressures(fresh.flow, report.unmatched_new_domains, pressure);
+    // What the re-description created or destroyed: the fluid the free and source domains hold
+    // now minus before (a conserving remap books rounding only).
+    const std::int32_t fresh_well = injected_well_ ? fresh.well_domain : -1;
+    const double booked =
+        (HeldFluid(fresh.flow, s.storage, fresh_well) - HeldFluid(s.net.flow, s.storage, -1)) /
+        s.scene->fluid.bulk_modulus_pa;
+    s.books.ledger.redetection_m2 += booked;
+    s.books.ledger.handled_m2 += std::abs(booked);
     const double scale = std::max(std::abs(report.old_stored), std::abs(report.new_stored));
     const double error = report.unmatched_new == 0 && report.unmatched_old == 0 && scale > 0.0
                              ? std::abs(report.new_stored - report.old_stored) / scale

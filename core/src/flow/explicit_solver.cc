@@ -59,15 +59,17 @@ struct Budget {
 };
 
 // The update with the fluid budget of the step, in domain order (deterministic sums).
+// node_outflow (may be null): per node, dt x what left the network into it is added.
 Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* capacity,
                                const double* volume_change, double inv_dt, double* inflow,
-                               double* pressure) {
+                               double* pressure, double* node_outflow) {
   Budget out;
   for (std::size_t i = 0; i < n; ++i) {
     const double old_p = pressure[i];
     if (capacity[i] == 0.0) {  // fixed-pressure node: inflow[i] is what leaves the network into it
       out.boundary_inflow -= inflow[i];
       out.boundary_magnitude += std::abs(inflow[i]);
+      if (node_outflow != nullptr) node_outflow[i] += inflow[i] / inv_dt;
     } else {
       const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
       const double new_p = old_p + gain[i] * (inflow[i] - dv * inv_dt);
@@ -182,10 +184,12 @@ Result<CriticalTimeStep> ExplicitSolver::CriticalStep(const FlowNetwork& network
 }
 
 Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
-                                            std::span<const double> volume_change) {
+                                            std::span<const double> volume_change,
+                                            FluidTally* tally) {
   const std::size_t n = network.num_domains();
   SEEP_RETURN_IF_ERROR(
       flow_internal::CheckStepInput("explicit", dt, n, volume_change, options_.diagnostics));
+  SEEP_RETURN_IF_ERROR(flow_internal::CheckTally("explicit", n, tally, options_.diagnostics));
   SEEP_RETURN_IF_ERROR(Prepare(network));
 
   FlowStepReport report;
@@ -241,9 +245,16 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   }
   const double inv_dt = 1.0 / step;
   if (options_.diagnostics) {
-    const Budget b = UpdateDomainsWithBudget(n, gain_.data(), capacity_.data(),
-                                             volume_change.empty() ? nullptr : volume_change.data(),
-                                             inv_dt, inflow_.data(), pressure);
+    const Budget b = UpdateDomainsWithBudget(
+        n, gain_.data(), capacity_.data(), volume_change.empty() ? nullptr : volume_change.data(),
+        inv_dt, inflow_.data(), pressure,
+        tally != nullptr ? tally->node_outflow_m2.data() : nullptr);
+    if (tally != nullptr) {
+      tally->source_m2 += step * source_inflow;
+      tally->compressed_m2 += b.stored_change;
+      tally->pore_growth_m2 += b.volume_change;
+      tally->boundary_gross_m2 += step * b.boundary_magnitude;
+    }
     report.boundary_inflow = b.boundary_inflow;
     report.source_inflow = source_inflow;
     report.volume_change = b.volume_change;
@@ -280,7 +291,8 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
 }
 
 Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double duration,
-                                                  std::span<const double> volume_change) {
+                                                  std::span<const double> volume_change,
+                                                  FluidTally* tally) {
   if (!(std::isfinite(duration) && duration > 0.0)) {
     return InvalidArgument("flow.explicit.duration: must be finite and > 0 (got " +
                            flow_internal::FormatNumber(duration) + ")");
@@ -299,7 +311,8 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
         flow_internal::FormatNumber(n) +
         " sub-steps of dt_crit = " + flow_internal::FormatNumber(limit_.dt_crit) +
         " s (limiting domain " + std::to_string(limit_.limiting_domain) +
-        "); use the implicit solver, or merge that domain into a neighbour");
+        "); use the implicit solver, or give slivers a storage floor "
+        "(scene.solver.storage_floor_fraction, e.g. 0.05)");
   }
   FlowAdvanceReport out;
   out.sub_steps = static_cast<std::int64_t>(std::max(1.0, n));
@@ -319,7 +332,7 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
   }
   out.max_mass_balance_error = options_.diagnostics ? 0.0 : FlowStepReport::kNaN;
   for (std::int64_t k = 0; k < out.sub_steps; ++k) {
-    SEEP_ASSIGN_OR_RETURN(out.last, Step(network, step, dv));
+    SEEP_ASSIGN_OR_RETURN(out.last, Step(network, step, dv, tally));
     if (options_.diagnostics) {
       out.max_mass_balance_error =
           std::max(out.max_mass_balance_error, out.last.mass_balance_error);

@@ -84,10 +84,12 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
 }
 
 Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
-                                            std::span<const double> volume_change) {
+                                            std::span<const double> volume_change,
+                                            FluidTally* tally) {
   const std::size_t nd = network.num_domains();
   SEEP_RETURN_IF_ERROR(
       flow_internal::CheckStepInput("implicit", dt, nd, volume_change, options_.diagnostics));
+  SEEP_RETURN_IF_ERROR(flow_internal::CheckTally("implicit", nd, tally, options_.diagnostics));
   SEEP_RETURN_IF_ERROR(Prepare(network));
   const double theta = options_.theta;
   if (dt != storage_diagonal_dt_) {
@@ -201,6 +203,13 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
       const double q = c[p] * boundary_drive(p, known, domain_of[u], theta * x[u]);
       boundary += q;
       boundary_mag += std::abs(q);
+      if (tally != nullptr) tally->node_outflow_m2[known] -= dt * q;
+    }
+    if (tally != nullptr) {
+      tally->source_m2 += dt * src;
+      tally->compressed_m2 += stored;
+      tally->pore_growth_m2 += dv_sum;
+      tally->boundary_gross_m2 += dt * boundary_mag;
     }
     report.boundary_inflow = boundary;
     report.source_inflow = src;

@@ -30,4 +30,19 @@ Status CheckStepInput(std::string_view solver, double dt, std::size_t num_domain
   return Status::Ok();
 }
 
+Status CheckTally(std::string_view solver, std::size_t num_nodes, const FluidTally* tally,
+                  bool diagnostics) {
+  if (tally == nullptr) return Status::Ok();
+  if (!diagnostics) {
+    return InvalidArgument(
+        fmt::format("flow.{}.tally: needs the step's budget; switch diagnostics on", solver));
+  }
+  if (tally->node_outflow_m2.size() != num_nodes) {
+    return InvalidArgument(fmt::format(
+        "flow.{}.tally.node_outflow_m2: has {} entries, expected {} (one per flow node; Reset it)",
+        solver, tally->node_outflow_m2.size(), num_nodes));
+  }
+  return Status::Ok();
+}
+
 }  // namespace seep::core::flow_internal

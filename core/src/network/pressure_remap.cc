@@ -69,6 +69,51 @@ double StorageOf(std::span<const double> pore, std::span<const double> apparent,
 
 }  // namespace
 
+void PocketPressures(const FlowNetwork& flow, std::span<const std::int32_t> pockets,
+                     std::span<double> pressure) {
+  if (pockets.empty()) return;
+  const std::size_t n = flow.num_domains();
+  std::vector<std::int32_t> slot(n, -1);  // node -> its index in pockets, or -1
+  for (std::size_t k = 0; k < pockets.size(); ++k) {
+    slot[static_cast<std::size_t>(pockets[k])] = static_cast<std::int32_t>(k);
+  }
+  // Per pocket: sum C and sum C P over its pipes to fixed nodes, and to other neighbours.
+  struct Sums {
+    double fixed_c = 0.0, fixed_cp = 0.0, free_c = 0.0, free_cp = 0.0;
+  };
+  std::vector<Sums> sums(pockets.size());
+  const auto a = flow.pipe_domain_a();
+  const auto b = flow.pipe_domain_b();
+  const auto c = flow.pipe_conductance();
+  const auto role = flow.role();
+  const auto add = [&](std::int32_t pocket, std::int32_t other, double conductance) {
+    const std::int32_t k = slot[static_cast<std::size_t>(pocket)];
+    if (k < 0 || slot[static_cast<std::size_t>(other)] >= 0) return;  // not a pocket, or two
+    Sums& s = sums[static_cast<std::size_t>(k)];
+    const double p = pressure[static_cast<std::size_t>(other)];
+    if (role[static_cast<std::size_t>(other)] == DomainRole::kFixedPressure) {
+      s.fixed_c += conductance;
+      s.fixed_cp += conductance * p;
+    } else {
+      s.free_c += conductance;
+      s.free_cp += conductance * p;
+    }
+  };
+  for (std::size_t p = 0; p < c.size(); ++p) {
+    add(a[p], b[p], c[p]);
+    add(b[p], a[p], c[p]);
+  }
+  for (std::size_t k = 0; k < pockets.size(); ++k) {
+    const Sums& s = sums[k];
+    double& p = pressure[static_cast<std::size_t>(pockets[k])];
+    if (s.fixed_c > 0.0) {
+      p = s.fixed_cp / s.fixed_c;
+    } else if (s.free_c > 0.0) {
+      p = s.free_cp / s.free_c;
+    }
+  }
+}
+
 Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
                                            std::span<const double> old_pressure,
                                            const DomainNetwork& new_network,
@@ -175,6 +220,7 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
       (*new_pressure)[k] = plain_sum[root] / old_members[root];
     } else {
       ++report.unmatched_new;
+      report.unmatched_new_domains.push_back(static_cast<std::int32_t>(k));
     }
     report.new_stored +=
         StorageOf(new_network.pore_volume, new_network.apparent_volume, k, options.storage) *

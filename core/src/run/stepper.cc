@@ -11,6 +11,7 @@
 #include "seep/core/effects/flow_effect.h"
 #include "seep/core/effects/fluid_stable_step.h"
 #include "seep/core/effects/volume_change_effect.h"
+#include "seep/core/log.h"
 
 namespace seep::core {
 namespace {
@@ -27,6 +28,14 @@ Status Timed(double* seconds, Call call) {
   const Status status = call();
   *seconds += std::chrono::duration<double>(Clock::now() - start).count();
   return status;
+}
+
+// The pore fluid is a spring between the particles, which the step must resolve as well.
+// Contacts and fluid act on the same particles in parallel: their stiffnesses add, so
+// 1/dt^2 = 1/dt_contacts^2 + 1/dt_fluid^2 (taking the smaller alone let an undamped column
+// diverge at dt_safety 0.5).
+double CombinedStep(double contact_dt, double fluid_dt) {
+  return 1.0 / std::sqrt(1.0 / (contact_dt * contact_dt) + 1.0 / (fluid_dt * fluid_dt));
 }
 
 std::uint64_t StepsToEnd(double end, double dt) {
@@ -92,15 +101,13 @@ Status Stepper::SetClock() {
     dt_ = solver.dt_factor * flow->dt_crit_s();
   } else {
     const auto* contacts = FindEffect<ContactsEffectSpec>(scene_);
-    SEEP_ASSIGN_OR_RETURN(dt_, EstimateStableTimeStep(state_.particles, contacts->law.kn,
-                                                      contacts->law.kt, contacts->dt_safety));
-    if (effects_.fluid_forces != nullptr && effects_.volume_change != nullptr) {
-      // The pore fluid is a spring between the particles: the step must resolve it as well.
-      // Contacts and fluid act on the same particles in parallel: their stiffnesses add, so
-      // 1/dt^2 = 1/dt_contacts^2 + 1/dt_fluid^2 (taking the smaller alone let an undamped column
-      // diverge at dt_safety 0.5).
+    SEEP_ASSIGN_OR_RETURN(
+        contact_dt_, EstimateStableTimeStep(state_.particles, contacts->law.kn, contacts->law.kt,
+                                            contacts->dt_safety));
+    dt_ = contact_dt_;
+    if (FluidIsASpring()) {
       fluid_limited_dt_ = FluidStableStep(state_, contacts->dt_safety);
-      dt_ = 1.0 / std::sqrt(1.0 / (dt_ * dt_) + 1.0 / (fluid_limited_dt_ * fluid_limited_dt_));
+      dt_ = CombinedStep(contact_dt_, fluid_limited_dt_);
     }
     if (flow != nullptr)
       flow_every_ = flow->SetEverySteps(dt_, fluid_limited_dt_, solver.dt_factor);
@@ -175,6 +182,53 @@ Status Stepper::InitialForces() {
   return Status::Ok();
 }
 
+Result<std::uint64_t> Stepper::ClockTotalSteps(const MechanicsSnapshot& clock,
+                                               std::uint64_t step) const {
+  // The step is the contacts' or shorter (the fluid only ever shortens it).
+  if (!(std::isfinite(clock.dt) && clock.dt > 0.0 && clock.dt <= contact_dt_)) {
+    return DataLoss(fmt::format(
+        "snapshot.mechanics.dt: {} s is not a step of this scene (its contacts allow {} s)",
+        clock.dt, contact_dt_));
+  }
+  if (clock.clock_step > step ||
+      !(std::isfinite(clock.clock_time_s) && clock.clock_time_s >= 0.0)) {
+    return DataLoss(fmt::format(
+        "snapshot.mechanics.clock_step/clock_time_s: ({}, {} s) is not a point before step {}",
+        clock.clock_step, clock.clock_time_s, step));
+  }
+  if (clock.flow_every == 0 || !(clock.fluid_limited_dt > 0.0)) {
+    return DataLoss(
+        fmt::format("snapshot.mechanics.flow_every/fluid_limited_dt: ({}, {} s) must both be > 0",
+                    clock.flow_every, clock.fluid_limited_dt));
+  }
+  return clock.clock_step + StepsToEnd(scene_.solver.end_time_s - clock.clock_time_s, clock.dt);
+}
+
+bool Stepper::FluidIsASpring() const {
+  return effects_.fluid_forces != nullptr && effects_.volume_change != nullptr;
+}
+
+void Stepper::ShortenStepForTheFluid(const StepInfo& info) {
+  if (!state_.moves() || !FluidIsASpring() || info.step >= total_steps_) return;
+  const auto* contacts = FindEffect<ContactsEffectSpec>(scene_);
+  const double fluid_dt = FluidStableStep(state_, contacts->dt_safety);
+  const double dt = CombinedStep(contact_dt_, fluid_dt);
+  // Never longer: a softer fluid (domains merged) keeps the step it has.
+  if (!(dt < dt_)) return;
+  Logger()->info(
+      "step {} (t = {} s): the re-detected pores are stiffer; DEM step {:.6g} s -> {:.6g} s "
+      "(fluid alone allows {:.6g} s)",
+      info.step, info.time_s, dt_, dt, fluid_dt);
+  clock_step_ = info.step;
+  clock_time_s_ = info.time_s;
+  dt_ = dt;
+  fluid_limited_dt_ = fluid_dt;
+  if (effects_.flow != nullptr) {
+    flow_every_ = effects_.flow->SetEverySteps(dt_, fluid_limited_dt_, scene_.solver.dt_factor);
+  }
+  total_steps_ = clock_step_ + StepsToEnd(scene_.solver.end_time_s - clock_time_s_, dt_);
+}
+
 Status Stepper::RebindAll() {
   for (const auto& effect : effects_.all) SEEP_RETURN_IF_ERROR(effect->Rebind(state_));
   return Status::Ok();
@@ -198,12 +252,15 @@ StepInfo Stepper::NextStep() const {
   info.step = step_ + 1;
   const bool last = info.step == total_steps_;
   if (state_.moves()) {
+    // Steps and flow intervals count from where the current step began (step 0 unless a
+    // re-detection shortened it): a run that never retunes keeps time = step x dt exactly.
+    const std::uint64_t since = info.step - clock_step_;
     info.dt = dt_;
-    info.time_s = static_cast<double>(info.step) * dt_;
-    if (effects_.flow != nullptr && (info.step % flow_every_ == 0 || last)) {
-      const std::uint64_t interval_start = (info.step - 1) / flow_every_ * flow_every_;
+    info.time_s = clock_time_s_ + static_cast<double>(since) * dt_;
+    if (effects_.flow != nullptr && (since % flow_every_ == 0 || last)) {
+      const std::uint64_t interval_start = (since - 1) / flow_every_ * flow_every_;
       info.flow_update = true;
-      info.flow_dt = static_cast<double>(info.step - interval_start) * dt_;
+      info.flow_dt = static_cast<double>(since - interval_start) * dt_;
     }
     return info;
   }
@@ -246,6 +303,7 @@ Status Stepper::Step() {
       SEEP_RETURN_IF_ERROR(CheckParticlesFinite(info.step));
     }
   }
+  bool retune = false;  // a re-detection replaced the network
   if (info.flow_update) {
     for (const std::size_t k : end_of_step_) {
       const std::uint64_t topology = s.topology_version;
@@ -253,9 +311,11 @@ Status Stepper::Step() {
       SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.EndOfStep(s, info); }));
       if (s.topology_version != topology) {
         SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return RebindAll(); }));
+        retune = true;
       }
     }
   }
+  if (retune) ShortenStepForTheFluid(info);
   step_ = info.step;
   time_s_ = info.time_s;
   if (step_ % sample_every_ == 0 || finished()) Sample();

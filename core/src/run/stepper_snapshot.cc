@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string_view>
 
+#include "seep/core/effects/flow_effect.h"
 #include "seep/core/run/stepper.h"
 
 namespace seep::core {
@@ -33,6 +35,34 @@ Status CheckPressures(const std::vector<double>& pressure, std::size_t nodes) {
         pressure.size(), nodes));
   }
   return CheckFinite("pressure", pressure);
+}
+
+// The books: finite totals, one per boundary of this scene (or none kept: a checkpoint written
+// before the books existed).
+Status CheckLedger(const std::optional<FluidLedger>& saved, std::size_t boundaries) {
+  if (!saved) return Status::Ok();
+  const FluidLedger& ledger = *saved;
+  if (ledger.left_m2.size() != boundaries) {
+    return DataLoss(fmt::format("snapshot.ledger.left_m2: {} boundaries, this scene has {}",
+                                ledger.left_m2.size(), boundaries));
+  }
+  SEEP_RETURN_IF_ERROR(CheckFinite("ledger.left_m2", ledger.left_m2));
+  return CheckFinite("ledger", {ledger.injected_m2, ledger.compressed_m2, ledger.pore_growth_m2,
+                                ledger.redetection_m2, ledger.handled_m2});
+}
+
+// Takes the snapshot's books; a snapshot without them (none kept yet) starts the books at its
+// step, so the balance the run reports covers what it saw.
+void RestoreLedger(const std::optional<FluidLedger>& saved, std::uint64_t step,
+                   FluidLedger* ledger) {
+  if (saved) {
+    *ledger = *saved;
+    return;
+  }
+  const std::size_t boundaries = ledger->left_m2.size();
+  *ledger = FluidLedger{};
+  ledger->left_m2.assign(boundaries, 0.0);
+  ledger->since_step = step;
 }
 
 // The contact pairs a network was detected from: sorted pairs of this scene's particles.
@@ -81,6 +111,7 @@ SimulationSnapshot Stepper::TakeSnapshot() const {
   snap.pressure.assign(pressure.begin(), pressure.end());
   snap.step_mass_balance_error = state_.books.step_error;
   snap.worst_mass_balance_error = state_.books.worst_error;
+  snap.ledger = state_.books.ledger;
   snap.series = series_;
   if (state_.moves()) SaveMechanics(&snap.mechanics.emplace());
   return snap;
@@ -116,6 +147,11 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
     out->pipe_head_offset.assign(offset.begin(), offset.end());
   }
   out->topology_version = s.topology_version;
+  out->dt = dt_;
+  out->clock_step = clock_step_;
+  out->clock_time_s = clock_time_s_;
+  out->fluid_limited_dt = fluid_limited_dt_;
+  out->flow_every = flow_every_;
   for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
 }
 
@@ -126,9 +162,13 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   if (!state_.moves() && snap.mechanics) {
     return DataLoss("snapshot.mechanics: present, but this scene's particles do not move");
   }
-  if (snap.step > total_steps_) {
-    return DataLoss(fmt::format("snapshot.step: {} is past this scene's last step {}", snap.step,
-                                total_steps_));
+  std::uint64_t total_steps = total_steps_;
+  if (snap.mechanics && snap.mechanics->dt != 0.0) {
+    SEEP_ASSIGN_OR_RETURN(total_steps, ClockTotalSteps(*snap.mechanics, snap.step));
+  }
+  if (snap.step > total_steps) {
+    return DataLoss(
+        fmt::format("snapshot.step: {} is past this scene's last step {}", snap.step, total_steps));
   }
   for (const auto& [field, value] :
        {std::pair{"step_mass_balance_error", snap.step_mass_balance_error},
@@ -137,6 +177,7 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
       return DataLoss(fmt::format("snapshot.{}: must be finite and >= 0 (got {})", field, value));
     }
   }
+  SEEP_RETURN_IF_ERROR(CheckLedger(snap.ledger, state_.books.ledger.left_m2.size()));
   if (snap.series.columns != series_.columns ||
       snap.series.values.size() % series_.columns.size() != 0) {
     return DataLoss("snapshot.series: columns or row length differ from this scene's");
@@ -147,10 +188,21 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     SEEP_RETURN_IF_ERROR(CheckPressures(snap.pressure, state_.net.flow.num_domains()));
   }
   std::copy(snap.pressure.begin(), snap.pressure.end(), state_.net.flow.mutable_pressure().begin());
+  if (snap.mechanics && snap.mechanics->dt != 0.0) {
+    const MechanicsSnapshot& m = *snap.mechanics;
+    dt_ = m.dt;
+    clock_step_ = m.clock_step;
+    clock_time_s_ = m.clock_time_s;
+    fluid_limited_dt_ = m.fluid_limited_dt;
+    flow_every_ = m.flow_every;
+    if (effects_.flow != nullptr) effects_.flow->set_every_steps(flow_every_);
+    total_steps_ = total_steps;
+  }
   step_ = snap.step;
   time_s_ = snap.time_s;
   state_.books.step_error = snap.step_mass_balance_error;
   state_.books.worst_error = snap.worst_mass_balance_error;
+  RestoreLedger(snap.ledger, snap.step, &state_.books.ledger);
   series_ = snap.series;
   series_stride_ = SeriesStrideAt(step_);
   const std::size_t width = series_.columns.size();

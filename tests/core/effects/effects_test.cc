@@ -164,6 +164,15 @@ void ExpectSameState(const SimulationSnapshot& got, const SimulationSnapshot& ex
   EXPECT_TRUE(BitEqual(got.mechanics->aperture, expected.mechanics->aperture));
   EXPECT_EQ(got.mechanics->effects.contacts.bonds_broken,
             expected.mechanics->effects.contacts.bonds_broken);
+  ASSERT_TRUE(got.ledger && expected.ledger);
+  EXPECT_TRUE(BitEqual(got.ledger->left_m2, expected.ledger->left_m2));
+  EXPECT_TRUE(
+      BitEqual(std::vector<double>{got.ledger->injected_m2, got.ledger->compressed_m2,
+                                   got.ledger->pore_growth_m2, got.ledger->redetection_m2,
+                                   got.ledger->handled_m2},
+               std::vector<double>{expected.ledger->injected_m2, expected.ledger->compressed_m2,
+                                   expected.ledger->pore_growth_m2, expected.ledger->redetection_m2,
+                                   expected.ledger->handled_m2}));
 }
 
 // Stop part-way, snapshot, restore into a fresh simulation, finish: the state equals that of an

@@ -159,3 +159,38 @@ TEST(PressureRemap, RejectsTooFewPressures) {
 
 }  // namespace
 }  // namespace seep::core
+
+namespace seep::core {
+namespace {
+
+// A pocket born by a re-detection takes the pressure of what it opened into: the
+// conductance-weighted mean of the fixed nodes it reaches, else of its neighbours that are not
+// pockets; a pocket beside another pocket ignores it, and one with neither keeps its value.
+// Nodes: 0 fixed at 1e5, 1 fixed at 3e5, 2 free at 7e4, pockets 3 (pipes to 0, 1, 2 and 4),
+// 4 (pipes to 2 and 3), 5 (no pipes).
+TEST(PocketPressures, TakeWhatThePocketOpenedInto) {
+  FlowNetworkData data;
+  data.apparent_volume = {0, 0, 1, 1, 1, 1};
+  data.pore_volume = {0, 0, 1, 1, 1, 1};
+  data.pressure = {1e5, 3e5, 7e4, -1.0, -2.0, 42.0};
+  data.role = {DomainRole::kFixedPressure, DomainRole::kFixedPressure, DomainRole::kFree,
+               DomainRole::kFree,          DomainRole::kFree,          DomainRole::kFree};
+  data.source_rate.assign(6, 0.0);
+  data.pipe_domain_a = {3, 1, 3, 4, 4};
+  data.pipe_domain_b = {0, 3, 2, 2, 3};
+  data.pipe_length.assign(5, 1.0);
+  data.pipe_aperture.assign(5, 1e-6);
+  data.pipe_conductance = {1.0, 3.0, 5.0, 2.0, 7.0};
+  auto flow = FlowNetwork::Create(data);
+  ASSERT_TRUE(flow.ok()) << flow.status().message();
+  std::vector<double> pressure = data.pressure;
+  const std::vector<std::int32_t> pockets = {3, 4, 5};
+  PocketPressures(*flow, pockets, pressure);
+  EXPECT_DOUBLE_EQ(pressure[3], (1.0 * 1e5 + 3.0 * 3e5) / 4.0);  // the fixed nodes only
+  EXPECT_DOUBLE_EQ(pressure[4], 7e4);                            // node 2; pocket 3 ignored
+  EXPECT_EQ(pressure[5], 42.0);
+  EXPECT_EQ(pressure[2], 7e4);  // not a pocket: untouched
+}
+
+}  // namespace
+}  // namespace seep::core

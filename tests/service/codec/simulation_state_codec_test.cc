@@ -19,6 +19,14 @@ core::SimulationSnapshot Sample() {
   s.worst_mass_balance_error = 1.25e-15;
   s.series.columns = {"time_s", "inflow_m2_per_s"};
   s.series.values = {0.0, 1.0, 0.5, 2.0};
+  core::FluidLedger& books = s.ledger.emplace();
+  books.injected_m2 = 0.1 + 0.7;
+  books.left_m2 = {1e-9 / 3.0, -0.0, -2.5e-300};
+  books.compressed_m2 = 1.0 / 7.0;
+  books.pore_growth_m2 = -1e-17;
+  books.redetection_m2 = std::numeric_limits<double>::denorm_min();
+  books.handled_m2 = 2.0 / 3.0;
+  books.since_step = 77;
   return s;
 }
 
@@ -37,6 +45,28 @@ TEST(SimulationStateCodec, RoundTripsBitExact) {
   EXPECT_TRUE(SameBits(out->worst_mass_balance_error, in.worst_mass_balance_error));
   EXPECT_EQ(out->series.columns, in.series.columns);
   EXPECT_EQ(out->series.values, in.series.values);
+  ASSERT_TRUE(out->ledger.has_value());
+  const core::FluidLedger& got = *out->ledger;
+  const core::FluidLedger& want = *in.ledger;
+  ASSERT_EQ(got.left_m2.size(), want.left_m2.size());
+  for (std::size_t b = 0; b < want.left_m2.size(); ++b) {
+    EXPECT_TRUE(SameBits(got.left_m2[b], want.left_m2[b])) << b;
+  }
+  for (const auto field : {&core::FluidLedger::injected_m2, &core::FluidLedger::compressed_m2,
+                           &core::FluidLedger::pore_growth_m2, &core::FluidLedger::redetection_m2,
+                           &core::FluidLedger::handled_m2}) {
+    EXPECT_TRUE(SameBits(got.*field, want.*field));
+  }
+  EXPECT_EQ(got.since_step, want.since_step);
+}
+
+// A state written before the books existed has none; it reads back without them.
+TEST(SimulationStateCodec, StateWithoutBooksReadsBackWithout) {
+  core::SimulationSnapshot in = Sample();
+  in.ledger.reset();
+  auto out = ParseSimulationState(SerializeSimulationState(in));
+  ASSERT_TRUE(out.ok()) << out.status().ToString();
+  EXPECT_FALSE(out->ledger.has_value());
 }
 
 TEST(SimulationStateCodec, SerializationIsDeterministic) {

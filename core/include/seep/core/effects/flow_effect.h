@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -54,10 +55,16 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   // and the step the fluid's stiffness allows; fixes the interval the report divides by.
   std::uint64_t SetEverySteps(double dem_dt, double fluid_limited_dt, double dt_factor);
   std::uint64_t every_steps() const { return every_steps_; }
+  // The interval a checkpoint's clock carries (the run had set it with SetEverySteps).
+  void set_every_steps(std::uint64_t every_steps) { every_steps_ = every_steps; }
 
  private:
   // Head offsets from the current positions (no-op without fluid weight).
   Status RefreshFluidWeight(LiveState& s);
+  // Which flow node is which boundary of the books (at bind and after every re-detection).
+  Status MapBoundaries(const LiveState& s);
+  // Adds the update's tally to the run's books and clears it for the next.
+  void Book(FluidLedger& ledger);
 
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
@@ -69,6 +76,10 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::optional<FluidWeight> weight_;
   std::vector<double> node_weight_;  // W_n of the last refresh, Pa
   FluidVertices vertices_;           // the loops' vertices now (walls in the fluid)
+  // The books' boundaries: (fixed node, boundary index) of the current network, and the tally
+  // the solver fills over an update (transient modes only).
+  std::vector<std::pair<std::int32_t, std::int32_t>> boundary_nodes_;
+  FluidTally tally_;
 };
 
 }  // namespace seep::core

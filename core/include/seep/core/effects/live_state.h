@@ -15,6 +15,7 @@
 #include "seep/core/dem/dem_counters.h"
 #include "seep/core/dem/dem_particles.h"
 #include "seep/core/dem/dem_wall.h"
+#include "seep/core/effects/fluid_ledger.h"
 #include "seep/core/network/scene_network.h"
 #include "seep/core/spec/scene_spec.h"
 
@@ -39,6 +40,7 @@ struct EffectCounters {
 struct FluidBooks {
   double step_error = 0.0;   // relative error of the last flow update (its remap included)
   double worst_error = 0.0;  // the largest step_error of the run
+  FluidLedger ledger;        // the cumulative books of the run (transient flow only)
 };
 
 struct LiveState {

@@ -25,6 +25,7 @@
 #include "seep/core/flow/flow_network.h"
 #include "seep/core/flow/flow_step_report.h"
 #include "seep/core/flow/fluid.h"
+#include "seep/core/flow/fluid_tally.h"
 #include "seep/core/flow/time_step_limit.h"
 #include "seep/core/status.h"
 
@@ -60,16 +61,19 @@ class ExplicitSolver {
   static Result<ExplicitSolver> Create(const ExplicitSolverOptions& options);
 
   // Advances the network by one step of (at most) dt seconds. volume_change holds dV_i over the
-  // step (m^2, per domain, empty = rigid). Fixed-pressure domains keep their pressure.
+  // step (m^2, per domain, empty = rigid). Fixed-pressure domains keep their pressure. With a
+  // tally (diagnostics on, node_outflow_m2 sized to the network), the step's fluid is added to it.
   Result<FlowStepReport> Step(FlowNetwork& network, double dt,
-                              std::span<const double> volume_change = {});
+                              std::span<const double> volume_change = {},
+                              FluidTally* tally = nullptr);
 
   // Fluid sub-cycling (physics.md §4.4 item 2): advances by exactly `duration` seconds in
   // n = ceil(duration / (safety * dt_crit)) equal steps, spreading volume_change (dV over the whole
   // duration, per domain, empty = rigid) evenly over them. Conductances and volumes are held fixed.
   // The policy does not apply: every sub-step is within the limit by construction.
   Result<FlowAdvanceReport> Advance(FlowNetwork& network, double duration,
-                                    std::span<const double> volume_change = {});
+                                    std::span<const double> volume_change = {},
+                                    FluidTally* tally = nullptr);
 
   // The current limit (refreshes the cache from the network's stamps).
   Result<CriticalTimeStep> CriticalStep(const FlowNetwork& network);

@@ -50,6 +50,7 @@
 #include "seep/core/flow/flow_network.h"
 #include "seep/core/flow/flow_step_report.h"
 #include "seep/core/flow/fluid.h"
+#include "seep/core/flow/fluid_tally.h"
 #include "seep/core/flow/linear_solver_kind.h"
 #include "seep/core/flow/time_step_limit.h"
 #include "seep/core/status.h"
@@ -80,9 +81,11 @@ class ImplicitSolver {
   // One theta-method step of dt seconds. volume_change: dV_i over the step (m^2), empty = rigid.
   // The report carries dt_crit of the explicit scheme for reference (dt / dt_crit = how much the
   // implicit step buys); its boundary_inflow is the flux the scheme transports over the step,
-  // theta q(P^{n+1}) + (1 - theta) q(P^n).
+  // theta q(P^{n+1}) + (1 - theta) q(P^n). With a tally (diagnostics on, node_outflow_m2 sized
+  // to the network), the step's fluid is added to it.
   Result<FlowStepReport> Step(FlowNetwork& network, double dt,
-                              std::span<const double> volume_change = {});
+                              std::span<const double> volume_change = {},
+                              FluidTally* tally = nullptr);
 
   const LinearSystemStats& stats() const;
   const ImplicitSolverOptions& options() const { return options_; }

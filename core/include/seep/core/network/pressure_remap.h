@@ -18,7 +18,8 @@
 // (V1 P1 + V2 P2)/(V1 + V2), a split gives both children the parent's P, an unchanged domain keeps
 // its P, and sum V_s P over a cluster is conserved whenever the cluster's total volume is (a pure
 // topology change). A new domain in no cluster with an old domain (a region that was part of the
-// outside, closed by a new hull contact) gets options.unmatched_pressure; an old domain in no
+// outside, closed by a new hull contact) gets options.unmatched_pressure, and is listed, so the
+// caller can give it the pressure of what it was part of (PocketPressures); an old domain in no
 // cluster with a new domain (opened to the outside) loses its fluid. Both are counted.
 //
 // Deterministic: ordered containers only, sums in domain order.
@@ -28,6 +29,7 @@
 #include <span>
 #include <vector>
 
+#include "seep/core/flow/flow_network.h"
 #include "seep/core/flow/fluid.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/status.h"
@@ -46,13 +48,23 @@ struct PressureRemapOptions {
 struct PressureRemapReport {
   std::int32_t clusters = 0;       // clusters with at least one old and one new domain
   std::int32_t unmatched_new = 0;  // new domains given unmatched_pressure
-  std::int32_t unmatched_old = 0;  // old domains whose fluid left the network
-  double old_stored = 0.0;         // sum V_s P over the old domains, m^2 Pa
-  double new_stored = 0.0;         // sum V_s P over the new domains, m^2 Pa
+  std::vector<std::int32_t> unmatched_new_domains;  // their ids, ascending
+  std::int32_t unmatched_old = 0;                   // old domains whose fluid left the network
+  double old_stored = 0.0;                          // sum V_s P over the old domains, m^2 Pa
+  double new_stored = 0.0;                          // sum V_s P over the new domains, m^2 Pa
 };
 
 // Writes one pressure per new domain into *new_pressure (resized). old_pressure holds one value
 // per old domain (extra entries, e.g. reservoir nodes after the domains, are ignored).
+// A pocket born by a re-detection (an unmatched new domain) was part of the outside until a new
+// contact closed it: it takes the pressure of what it opened into, the conductance-weighted mean
+// of the fixed-pressure nodes its pipes reach (a reservoir, a drained wall, a fixed well), else of
+// its neighbours that are not pockets; with neither it keeps the pressure it has. `pressure` is
+// the new flow network's, remapped. Pockets do not count as each other's neighbours, so the
+// result does not depend on the order they are visited in.
+void PocketPressures(const FlowNetwork& flow, std::span<const std::int32_t> pockets,
+                     std::span<double> pressure);
+
 Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
                                            std::span<const double> old_pressure,
                                            const DomainNetwork& new_network,

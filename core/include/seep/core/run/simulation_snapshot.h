@@ -13,6 +13,7 @@
 
 #include "seep/core/dem/dem_contact_state.h"
 #include "seep/core/effects/effect_state.h"
+#include "seep/core/effects/fluid_ledger.h"
 
 namespace seep::core {
 
@@ -50,6 +51,14 @@ struct MechanicsSnapshot {
   // the last flow update, which the positions of a later step no longer give.
   std::vector<double> pipe_head_offset;
   std::uint64_t topology_version = 0;
+  // The clock (Stepper): the DEM step, the step and time it began at (a re-detection that
+  // stiffens the pore fluid shortens it), the step the fluid allows and the flow interval.
+  // dt = 0: a checkpoint written before the clock was kept, which runs on the scene's clock.
+  double dt = 0.0;
+  std::uint64_t clock_step = 0;
+  double clock_time_s = 0.0;
+  double fluid_limited_dt = 0.0;
+  std::uint64_t flow_every = 0;
   // Each effect's run totals (its SaveTo / RestoreFrom).
   EffectStates effects;
 };
@@ -62,6 +71,8 @@ struct SimulationSnapshot {
   // shows it) and the largest so far.
   double step_mass_balance_error = 0.0;
   double worst_mass_balance_error = 0.0;
+  // The cumulative books; unset in a checkpoint written before the books existed.
+  std::optional<FluidLedger> ledger;
   TimeSeries series;
   std::optional<MechanicsSnapshot> mechanics;  // scenes with the contacts effect only
 };

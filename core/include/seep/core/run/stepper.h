@@ -18,7 +18,11 @@
 //                     step is the time left, so it lands on end_time_s exactly;
 //   moving            dt = the DEM step (contacts' stable estimate, combined with the fluid's
 //                     stiffness when pressure follows deformation); time = step x dt; a flow
-//                     update every `flow_every` steps (FlowEffectSpec::every_steps) and at the end;
+//                     update every `flow_every` steps (FlowEffectSpec::every_steps) and at the end.
+//                     A re-detection that makes the pore fluid stiffer (new small domains)
+//                     shortens dt to what the new network allows, from that step on (time and
+//                     intervals then count from it; the step is never lengthened again); the
+//                     checkpoint carries the clock;
 //   steady            one step, no time.
 //
 // The time series stays bounded whatever the progress interval: a row is kept every
@@ -92,6 +96,14 @@ class Stepper {
   explicit Stepper(const SceneSpec& scene);
   Status SetClock();
   Status RebindAll();
+  // Pressure follows deformation and pushes the particles: the fluid is a spring the DEM step
+  // must resolve.
+  bool FluidIsASpring() const;
+  // After a re-detection: the step the new network allows, if shorter than the current one.
+  void ShortenStepForTheFluid(const StepInfo& info);
+  // The last step of the run on a snapshot's clock (DATA_LOSS when that clock cannot be this
+  // scene's at `step`).
+  Result<std::uint64_t> ClockTotalSteps(const MechanicsSnapshot& clock, std::uint64_t step) const;
   // Forces of the initial state, so that the first half-kick has them (velocity-Verlet).
   Status InitialForces();
   Status CheckParticlesFinite(std::uint64_t step) const;
@@ -116,7 +128,10 @@ class Stepper {
   double integration_seconds_ = 0.0;
   // The clock.
   double dt_ = 0.0;
+  double contact_dt_ = 0.0;        // the contacts' stable step (moving)
   double fluid_limited_dt_ = 0.0;  // the step the fluid's stiffness allows (moving), else inf
+  std::uint64_t clock_step_ = 0;   // the step and time the current dt began at (moving)
+  double clock_time_s_ = 0.0;
   std::uint64_t total_steps_ = 1;
   std::uint64_t sample_every_ = 1;
   std::uint64_t flow_every_ = 1;

@@ -55,6 +55,21 @@ struct LocalDampingEffectSpec {
 
 enum class WallSide { kLeft, kRight, kBottom, kTop };
 
+// "left", "right", "bottom", "top": how reports and series name a wall.
+constexpr const char* WallSideName(WallSide side) {
+  switch (side) {
+    case WallSide::kLeft:
+      return "left";
+    case WallSide::kRight:
+      return "right";
+    case WallSide::kBottom:
+      return "bottom";
+    case WallSide::kTop:
+      return "top";
+  }
+  return "unknown";
+}
+
 // A drained wall: a porous platen behind which the fluid is held at pressure_pa. Each stretch of
 // the wall that closes a domain is a pipe of conductance conductance_m_per_pa_s x its length into
 // the platen's reservoir (q = C (P_wall - P_domain), m^2/s per m of thickness).
