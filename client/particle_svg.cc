@@ -240,7 +240,7 @@ void DrawColourBar(const PressureRange& range, const Frame& frame, std::string* 
       "<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\">domain pressure</text>\n"
       "<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"url(#viridis)\" "
       "stroke=\"#444444\"/>\n",
-      left, top - 8.0, left, top, kBarWidthPx, height);
+      left, top - 14.0, left, top, kBarWidthPx, height);
   for (int k = 0; k <= 4; ++k) {
     const double fraction = k / 4.0;
     const double value = k == 4 ? range.hi : range.lo + fraction * (range.hi - range.lo);
