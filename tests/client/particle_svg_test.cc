@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include <regex>
+#include <cmath>
 #include <string>
 
 #include "colour_map.h"
@@ -94,6 +94,31 @@ TEST(ParticleSvg, DrawsEveryPartInItsGroupToScale) {
   EXPECT_NE(bar.find(">30 Pa</text>"), std::string::npos);
   EXPECT_NE(svg.find("1 intact bonds"), std::string::npos);
   EXPECT_NE(svg.find("1 broken bonds"), std::string::npos);
+}
+
+TEST(ParticleSvg, DomainsOfOneColourShareOnePathAndNotANumberIsGrey) {
+  v1::GetJobFieldsResponse r = ThreeDisks();
+  r.mutable_fields()->set_domain_pressure_pa(1, 10.0);       // both at 10 Pa: no range
+  r.mutable_fields()->add_domain_pressure_pa(std::nan(""));  // along the three centres
+  for (const int id : {0, 1, 2}) r.mutable_fields()->add_domain_loop_particles(id);
+  r.mutable_fields()->add_domain_loop_offsets(9);
+  std::string error;
+  const std::string svg = ParticleSvg("j-1", r, &error);
+  ASSERT_TRUE(error.empty()) << error;
+  const std::string domains = Element(svg, "domains");
+  // The middle of the map (level 128 of 0..255) for both, grey for the pressure that is not a
+  // number (and outside the range).
+  EXPECT_EQ(Count(domains, "<path"), 2) << domains;
+  EXPECT_NE(
+      domains.find("<path fill=\"#9e9e9e\" d=\"M170.00 190.00L470.00 190.00L770.00 190.00Z\""),
+      std::string::npos)
+      << domains;
+  EXPECT_NE(domains.find("<path fill=\"" + ViridisColour(128.0 / 255.0) +
+                         "\" d=\"M170.00 190.00L320.00 340.00L470.00 190.00ZM470.00"),
+            std::string::npos)
+      << domains;
+  EXPECT_NE(Element(svg, "colour-bar").find("data-min-pa=\"10\" data-max-pa=\"10\""),
+            std::string::npos);
 }
 
 TEST(ParticleSvg, ViridisEndsAndMiddleAreItsStops) {
