@@ -277,7 +277,7 @@ void DrawLegend(const v1::JobFields& f, int intact, int broken, const Frame& fra
   double x = kMarginPx + 10.0;
   *svg += fmt::format(
       "<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"6\" fill=\"#ffffff\" stroke=\"#4d4d4d\"/>\n"
-      "<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\">{} particles</text>\n",
+      "<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\">particles ({})</text>\n",
       x, y, x + 12.0, y + 4.0, f.particle_x_m_size());
   x += 150.0;
   const auto line_sample = [&](const char* colour, const char* width, const std::string& label) {
@@ -288,9 +288,9 @@ void DrawLegend(const v1::JobFields& f, int intact, int broken, const Frame& fra
         x - 6.0, y, x + 18.0, y, colour, width, x + 24.0, y + 4.0, label);
     x += 170.0;
   };
-  line_sample(kIntactColour, "0.7", fmt::format("{} intact bonds", intact));
-  line_sample(kBrokenColour, "1.8", fmt::format("{} broken bonds", broken));
-  line_sample("#000000", "3", fmt::format("{} walls", f.wall_x0_m_size()));
+  line_sample(kIntactColour, "0.7", fmt::format("intact bonds ({})", intact));
+  line_sample(kBrokenColour, "1.8", fmt::format("broken bonds ({})", broken));
+  line_sample("#000000", "3", fmt::format("walls ({})", f.wall_x0_m_size()));
 }
 
 }  // namespace

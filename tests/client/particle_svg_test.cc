@@ -92,8 +92,8 @@ TEST(ParticleSvg, DrawsEveryPartInItsGroupToScale) {
   EXPECT_NE(bar.find(">10 Pa</text>"), std::string::npos);
   EXPECT_NE(bar.find(">20 Pa</text>"), std::string::npos);
   EXPECT_NE(bar.find(">30 Pa</text>"), std::string::npos);
-  EXPECT_NE(svg.find("1 intact bonds"), std::string::npos);
-  EXPECT_NE(svg.find("1 broken bonds"), std::string::npos);
+  EXPECT_NE(svg.find("intact bonds (1)"), std::string::npos);
+  EXPECT_NE(svg.find("broken bonds (1)"), std::string::npos);
 }
 
 TEST(ParticleSvg, DomainsOfOneColourShareOnePathAndNotANumberIsGrey) {
@@ -145,7 +145,7 @@ TEST(ParticleSvg, WithoutDomainsOrBondsItSaysSoAndDrawsTheRest) {
   EXPECT_EQ(svg.find("class=\"colour-bar\""), std::string::npos);
   EXPECT_NE(svg.find(">no domains</text>"), std::string::npos);
   EXPECT_EQ(svg.find("bonds-intact"), std::string::npos);
-  EXPECT_NE(svg.find("0 intact bonds"), std::string::npos);
+  EXPECT_NE(svg.find("intact bonds (0)"), std::string::npos);
 }
 
 TEST(ParticleSvg, FieldsThatDoNotFitTogetherAreRefusedNamingTheField) {
