@@ -1,5 +1,6 @@
 // `seep export` and `seep plot` (see field_commands.h): fetch the fields with GetJobFields, the
-// time series with GetResult, and write VTK, CSV or SVG files.
+// time series with GetResult, and write VTK, CSV or SVG files (charts through plot/svg_chart,
+// the particle picture through particle_svg).
 #include "field_commands.h"
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 
 #include "call_support.h"
 #include "field_plot.h"
+#include "particle_svg.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "vtk_writer.h"
 
@@ -201,18 +203,21 @@ FieldCommands AddFieldCommands(CLI::App& app) {
 
   PlotOptions& p = *c.plot_options;
   c.plot_cmd = app.add_subcommand(
-      "plot", "draw an SVG: the pressure profile against the analytic solution, or time series");
+      "plot",
+      "draw an SVG: the pressure profile against the analytic solution, time series, or the "
+      "particles with their bonds (intact, broken), the walls and the domain pressure as colour");
   c.plot_cmd->add_option("job", p.job_id, "job id")->required();
-  c.plot_cmd->add_option("--out", p.out_file, "the SVG file to write")->required();
-  c.plot_cmd->add_option("--what", p.what, "profile or series")
-      ->check(CLI::IsMember({"profile", "series"}))
+  c.plot_cmd->add_option("-o,--out", p.out_file,
+                         "the SVG file to write (default: <job>-<what>.svg here)");
+  c.plot_cmd->add_option("--what", p.what, "profile, series or particles")
+      ->check(CLI::IsMember({"profile", "series", "particles"}))
       ->capture_default_str();
   c.plot_cmd
       ->add_option("--column", p.columns,
                    "series: a column to draw (repeatable; default: all but time_s)")
       ->allow_extra_args(false);  // one name per --column: a following job id stays positional
   c.plot_cmd->add_option("--step", p.step,
-                         "profile: the checkpoint at this step (default: newest)");
+                         "profile, particles: the checkpoint at this step (default: newest)");
   return c;
 }
 
@@ -284,38 +289,50 @@ int Export(const GlobalOptions& global, const ExportOptions& options) {
 
 int Plot(const GlobalOptions& global, const PlotOptions& options) {
   auto stub = v1::SeepService::NewStub(OpenChannel(global));
-  plot::Chart chart;
-  if (options.what == "profile") {
+  std::string svg;
+  if (options.what == "profile" || options.what == "particles") {
     v1::GetJobFieldsResponse fields;
     if (auto status = FetchFields(*stub, global, options.job_id, options.step, &fields);
         !status.ok()) {
       return ReportCallError(global, "plot", status);
     }
-    chart = ProfileChart(options.job_id, fields);
+    if (options.what == "profile") {
+      svg = plot::RenderSvg(ProfileChart(options.job_id, fields));
+    } else {
+      std::string error;
+      svg = ParticleSvg(options.job_id, fields, &error);
+      if (!error.empty()) {
+        std::fprintf(stderr, "seep: plot: %s\n", error.c_str());
+        return static_cast<int>(grpc::StatusCode::DATA_LOSS);
+      }
+    }
   } else {
     v1::TimeSeries series;
     if (auto status = FetchSeries(*stub, global, options.job_id, &series); !status.ok()) {
       return ReportCallError(global, "plot", status);
     }
     std::string error;
-    chart = SeriesChart(options.job_id, series, options.columns, &error);
+    const plot::Chart chart = SeriesChart(options.job_id, series, options.columns, &error);
     if (!error.empty()) {
       std::fprintf(stderr, "seep: plot: %s\n", error.c_str());
       return kBadInput;
     }
+    svg = plot::RenderSvg(chart);
   }
-  if (const std::string error = plot::WriteSvgFile(options.out_file, plot::RenderSvg(chart));
-      !error.empty()) {
+  const std::string out_file = options.out_file.empty()
+                                   ? fmt::format("{}-{}.svg", options.job_id, options.what)
+                                   : options.out_file;
+  if (const std::string error = plot::WriteSvgFile(out_file, svg); !error.empty()) {
     std::fprintf(stderr, "seep: plot: %s\n", error.c_str());
     return kExitWriteFailed;
   }
   if (global.json) {
     google::protobuf::Struct out;
     (*out.mutable_fields())["job_id"].set_string_value(options.job_id);
-    (*out.mutable_fields())["file"].set_string_value(options.out_file);
+    (*out.mutable_fields())["file"].set_string_value(out_file);
     std::cout << MessageToJson(out);
   } else {
-    std::cout << "wrote " << options.out_file << "\n";
+    std::cout << "wrote " << out_file << "\n";
   }
   return 0;
 }

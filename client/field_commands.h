@@ -1,5 +1,6 @@
 // `seep export` (a job's fields as VTK or CSV files, and its time series as CSV) and `seep plot`
-// (an SVG of the pressure profile against the analytic solution, or of time series columns).
+// (an SVG of the pressure profile against the analytic solution, of time series columns, or a
+// picture of the particles, bonds, walls and domain pressure at a checkpoint).
 // Both read the fields through GetJobFields, so the CLI still links no physics.
 //
 // Exit codes as in commands.h, plus kExitWriteFailed when an output file cannot be written.
@@ -27,10 +28,10 @@ struct ExportOptions {
 
 struct PlotOptions {
   std::string job_id;
-  std::string out_file;
-  std::string what = "profile";      // profile or series
+  std::string out_file;              // empty: <job>-<what>.svg in the working directory
+  std::string what = "profile";      // profile, series or particles
   std::vector<std::string> columns;  // series: these columns (default: all but time_s)
-  std::uint64_t step = 0;            // profile: this checkpoint (0 = newest)
+  std::uint64_t step = 0;            // profile, particles: this checkpoint (0 = newest)
 };
 
 // The two subcommands and the options CLI11 fills (held by pointer: CLI11 keeps their addresses).

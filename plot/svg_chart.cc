@@ -18,29 +18,6 @@ constexpr double kMarginT = 30.0;
 constexpr double kMarginB = 44.0;
 constexpr double kLegendRowH = 20.0;
 
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 bool Usable(double v, Scale scale) {
   return std::isfinite(v) && (scale == Scale::kLinear || v > 0.0);
 }
@@ -165,14 +142,14 @@ void DrawPanel(std::ostringstream& svg, const Panel& panel, double ox, double oy
   const double y0 = oy + kMarginT;
   svg << fmt::format(
       "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"14\" font-weight=\"bold\">{}</text>\n", x0,
-      oy + 18, Escape(panel.title));
+      oy + 18, EscapeXml(panel.title));
   svg << fmt::format(
       "<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"none\" "
       "stroke=\"#444\"/>\n",
       x0, y0, pw, ph);
   if (!any) {
     svg << fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"13\">{}</text>\n", x0 + 20,
-                       y0 + ph / 2, Escape(panel.empty_note));
+                       y0 + ph / 2, EscapeXml(panel.empty_note));
     return;
   }
   for (const Rule& r : panel.rules) {
@@ -205,11 +182,11 @@ void DrawPanel(std::ostringstream& svg, const Panel& panel, double ox, double oy
   }
   svg << fmt::format(
       "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"12\" text-anchor=\"middle\">{}</text>\n",
-      x0 + pw / 2, y0 + ph + 33, Escape(panel.x.label));
+      x0 + pw / 2, y0 + ph + 33, EscapeXml(panel.x.label));
   svg << fmt::format(
       "<text x=\"{0:.1f}\" y=\"{1:.1f}\" font-size=\"12\" text-anchor=\"middle\" "
       "transform=\"rotate(-90 {0:.1f} {1:.1f})\">{2}</text>\n",
-      ox + 14, y0 + ph / 2, Escape(panel.y.label));
+      ox + 14, y0 + ph / 2, EscapeXml(panel.y.label));
   for (const Rule& r : panel.rules) {
     if (!Usable(r.y, panel.y.scale)) continue;
     const double y = Y(r.y);
@@ -220,7 +197,7 @@ void DrawPanel(std::ostringstream& svg, const Panel& panel, double ox, double oy
     svg << fmt::format(
         "<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"10\" fill=\"#666\" "
         "text-anchor=\"end\">{}</text>\n",
-        x0 + pw - 4, y - 3, Escape(r.label));
+        x0 + pw - 4, y - 3, EscapeXml(r.label));
   }
   for (const Series& s : panel.series) {
     std::string points;
@@ -232,7 +209,7 @@ void DrawPanel(std::ostringstream& svg, const Panel& panel, double ox, double oy
     }
     if (s.style.line && !points.empty()) {
       svg << fmt::format("<polyline class=\"series\" data-label=\"{}\" points=\"{}\" {}/>\n",
-                         Escape(s.style.label), points, LineAttributes(s.style));
+                         EscapeXml(s.style.label), points, LineAttributes(s.style));
     }
     svg << markers;
   }
@@ -272,10 +249,33 @@ std::string RenderSvg(const Chart& chart) {
     }
     svg << MarkerSvg(s, s.line ? lx + 7.5 : lx, ly);
     svg << fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"12\">{}</text>\n",
-                       lx + (s.line ? 26.0 : 10.0), ly + 4, Escape(s.label));
+                       lx + (s.line ? 26.0 : 10.0), ly + 4, EscapeXml(s.label));
   }
   svg << "</svg>\n";
   return svg.str();
+}
+
+std::string EscapeXml(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
 }
 
 std::string WriteSvgFile(const std::string& path, const std::string& svg) {

@@ -64,6 +64,9 @@ struct Chart {
 // The whole document, starting with <svg ...>.
 std::string RenderSvg(const Chart& chart);
 
+// `text` with &, <, > and " escaped, for SVG text and attribute values.
+std::string EscapeXml(const std::string& text);
+
 // Writes `svg` to `path`; returns an empty string, or what went wrong ("svg path X: ...").
 std::string WriteSvgFile(const std::string& path, const std::string& svg);
 

@@ -3,9 +3,10 @@
 // The one handler that needs physics: it rebuilds the job's network from its stored scene
 // (deterministic, see simulation_snapshot.h), restores the chosen checkpoint's state
 // (LoadNewestCheckpoint, as a resumed job does) and collects the arrays
-// (core::CollectSceneFields). It does not step the simulation. The store is read on the handler
-// thread; the physics runs on the PhysicsPool, with a job's thread budget, while the handler
-// waits for it and gives up when the call is cancelled or passes its deadline.
+// (core::CollectSceneFields, and the bonds and wall segments of dem_fields_codec.h). It does not
+// step the simulation. The store is read on the handler thread; the physics runs on the
+// PhysicsPool, with a job's thread budget, while the handler waits for it and gives up when the
+// call is cancelled or passes its deadline.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/dem_fields_codec.h"
 #include "codec/fields_codec.h"
 #include "codec/scene_codec.h"
 #include "jobs/newest_checkpoint.h"
@@ -49,6 +51,9 @@ grpc::Status RestoreAndCollect(const JobRecord& job, const std::vector<Checkpoin
   if (!spec.ok()) return ToGrpcStatus(spec.status());
   auto sim = core::Simulation::Create(*spec, logger);
   if (!sim.ok()) return ToGrpcStatus(sim.status());
+  // Every bond the run ever had, before the checkpoint's state replaces them (the DEM drops
+  // broken bonds; dem_fields_codec.h).
+  const BondList at_set_up = CurrentBonds(*sim);
   // Every candidate passed over is kept for the error.
   std::string skipped;
   const auto restored =
@@ -70,6 +75,7 @@ grpc::Status RestoreAndCollect(const JobRecord& job, const std::vector<Checkpoin
   resp->set_time_s(sim->time_s());
   for (auto it = records.rbegin(); it != records.rend(); ++it) resp->add_available_steps(it->step);
   SceneFieldsToProto(core::CollectSceneFields(*sim), resp->mutable_fields());
+  DemFieldsToProto(*sim, at_set_up, resp->mutable_fields());
   return grpc::Status::OK;
 }
 

@@ -1,13 +1,16 @@
 // GetJobFields in process, on a real gRPC server over loopback with a bearer token: it goes
 // through the common wrapper (a bad token is refused before any work), its physics runs as one
 // task of the PhysicsPool (the pool whose threads carry the job's thread budget), and a call that
-// passes its deadline while the pool is busy gives up without its task ever running.
+// passes its deadline while the pool is busy gives up without its task ever running. Also the
+// bonds and wall segments it carries for the particle picture.
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <spdlog/sinks/null_sink.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <future>
 #include <thread>
@@ -75,10 +78,12 @@ class GetJobFieldsTest : public ::testing::Test {
     ctx->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
   }
 
-  // Submits the steady scene and waits until it has SUCCEEDED (its final checkpoint written).
-  std::string RunJob() {
+  // Submits the scene (by default the steady lattice) and waits until it has SUCCEEDED (its
+  // final checkpoint written).
+  std::string RunJob(
+      const v1::Scene& scene = testing::ExampleScene("darcy_square_lattice.textproto")) {
     v1::SubmitJobRequest submit;
-    *submit.mutable_scene() = testing::ExampleScene("darcy_square_lattice.textproto");
+    *submit.mutable_scene() = scene;
     v1::SubmitJobResponse submitted;
     {
       grpc::ClientContext ctx;
@@ -167,6 +172,77 @@ TEST_F(GetJobFieldsTest, RunsItsPhysicsAsOneTaskOfThePhysicsPool) {
                                           std::to_string(out.step() + 7) +
                                           "; available steps: " + std::to_string(out.step()));
   EXPECT_EQ(physics_->tasks_run(), 2u);
+}
+
+// The fracturing example cut down to a 12 x 10 lattice on its floor alone, for 1 ms (before any
+// bond breaks): the bonds are the touching pairs, sorted, none broken; the floor, cut by no other
+// wall, spans the disks' bounding box widened by two largest diameters on each side, at the
+// height of the lowest disk's underside.
+TEST_F(GetJobFieldsTest, CarriesTheBondsAndALoneFloorAcrossTheWidenedPacking) {
+  v1::Scene scene = testing::ExampleScene("hydraulic_fracturing.textproto");
+  scene.mutable_packing()->mutable_lattice()->set_columns(12);
+  scene.mutable_packing()->mutable_lattice()->set_rows(10);
+  scene.mutable_solver()->set_end_time_s(1e-3);
+  for (v1::Effect& effect : *scene.mutable_effects()) {
+    if (!effect.has_walls()) continue;
+    v1::WallsEffect floor_only;
+    for (const v1::Wall& wall : effect.walls().walls()) {
+      if (wall.side() == v1::WALL_SIDE_BOTTOM) *floor_only.add_walls() = wall;
+    }
+    *effect.mutable_walls() = floor_only;
+  }
+  const std::string id = RunJob(scene);
+  grpc::ClientContext ctx;
+  Authorize(&ctx);
+  v1::GetJobFieldsResponse out;
+  const grpc::Status s = Fields(id, &ctx, &out);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  const v1::JobFields& f = out.fields();
+  const int n = f.particle_x_m_size();
+  ASSERT_GT(n, 0);
+
+  double x_lo = HUGE_VAL, x_hi = -HUGE_VAL, y_lo = HUGE_VAL, r_max = 0.0;
+  for (int k = 0; k < n; ++k) {
+    x_lo = std::min(x_lo, f.particle_x_m(k) - f.particle_radius_m(k));
+    x_hi = std::max(x_hi, f.particle_x_m(k) + f.particle_radius_m(k));
+    y_lo = std::min(y_lo, f.particle_y_m(k) - f.particle_radius_m(k));
+    r_max = std::max(r_max, f.particle_radius_m(k));
+  }
+  ASSERT_EQ(f.wall_x0_m_size(), 1);
+  ASSERT_EQ(f.wall_y0_m_size(), 1);
+  ASSERT_EQ(f.wall_x1_m_size(), 1);
+  ASSERT_EQ(f.wall_y1_m_size(), 1);
+  EXPECT_NEAR(f.wall_x0_m(0), x_lo - 4.0 * r_max, 1e-12);
+  EXPECT_NEAR(f.wall_x1_m(0), x_hi + 4.0 * r_max, 1e-12);
+  EXPECT_EQ(f.wall_y0_m(0), f.wall_y1_m(0));
+  EXPECT_NEAR(f.wall_y0_m(0), y_lo, 0.05 * r_max);  // the disks press on it by microns
+
+  // Touching pairs counted from the positions (the lattice's neighbours touch; the next nearest
+  // are a radius or more apart).
+  int touching = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      const double d =
+          std::hypot(f.particle_x_m(j) - f.particle_x_m(i), f.particle_y_m(j) - f.particle_y_m(i));
+      if (d < f.particle_radius_m(i) + f.particle_radius_m(j) + 0.01 * r_max) ++touching;
+    }
+  }
+  const int bonds = f.bond_particle_i_size();
+  EXPECT_EQ(bonds, touching);
+  ASSERT_EQ(f.bond_particle_j_size(), bonds);
+  ASSERT_EQ(f.bond_broken_size(), bonds);
+  for (int b = 0; b < bonds; ++b) {
+    const int i = f.bond_particle_i(b);
+    const int j = f.bond_particle_j(b);
+    ASSERT_TRUE(i >= 0 && i < j && j < n) << b << ": " << i << " " << j;
+    if (b > 0) {
+      EXPECT_LT(std::pair(f.bond_particle_i(b - 1), f.bond_particle_j(b - 1)), std::pair(i, j));
+    }
+    const double d =
+        std::hypot(f.particle_x_m(j) - f.particle_x_m(i), f.particle_y_m(j) - f.particle_y_m(i));
+    EXPECT_LT(d, f.particle_radius_m(i) + f.particle_radius_m(j) + 0.01 * r_max) << b;
+    EXPECT_FALSE(f.bond_broken(b)) << b;
+  }
 }
 
 TEST_F(GetJobFieldsTest, ACallPastItsDeadlineGivesUpAndItsTaskNeverRuns) {
