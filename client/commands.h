@@ -18,7 +18,7 @@ inline constexpr const char* kExitCodeHelp =
     "  0   success (watch: the job SUCCEEDED)\n"
     "  3   bad input: a scene file that does not parse (FILE:LINE:COL) or that the server\n"
     "      rejects (FILE:LINE: scene.<field>: reason), a bad flag value\n"
-    "  5   no such job\n"
+    "  5   no such job (or sweep)\n"
     "  6   the request id was already used for another scene\n"
     "  9   the job is in the wrong state for the command (e.g. resume or delete a running job)\n"
     "  14  server unreachable (or the call timed out: --timeout)\n"
