@@ -54,7 +54,8 @@ int SweepExitCode(const v1::SweepStatus& sweep) {
 }
 
 // Polls the sweep until every job has finished: one line for the whole sweep, redrawn in place
-// on a terminal, else printed on each change and at most once a second. Then the table.
+// on a terminal, else printed on each change and at most once a second. Then the table of its
+// parameters and job states.
 int WatchSweep(const GlobalOptions& global, const std::string& id) {
   auto stub = v1::SeepService::NewStub(OpenChannel(global));
   const bool tty = isatty(STDOUT_FILENO) != 0;
@@ -81,10 +82,9 @@ int WatchSweep(const GlobalOptions& global, const std::string& id) {
   if (global.json) {
     std::cout << MessageToJson(response.sweep());
   } else {
+    // The parameters and states only: `seep sweep show --metrics` picks the metrics to see.
     if (tty) std::cout << "\n";
-    std::string error;
-    const auto metrics = SweepMetricColumns(response.sweep(), {}, &error);
-    std::cout << FormatSweepTable(response.sweep(), metrics);
+    std::cout << FormatSweepTable(response.sweep(), {});
   }
   return SweepExitCode(response.sweep());
 }

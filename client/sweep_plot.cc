@@ -74,7 +74,7 @@ plot::Chart SweepChart(const v1::SweepStatus& sweep, const std::string& x_path,
   const plot::Marker markers[] = {plot::Marker::kCircle, plot::Marker::kSquare,
                                   plot::Marker::kTriangle, plot::Marker::kDiamond};
   plot::Panel panel;
-  panel.title = fmt::format("sweep {}: {} against {}", sweep.id(), y_metric, x_path);
+  panel.title = fmt::format("{} against {}", y_metric, x_path);  // the file names the sweep
   panel.x.label = x_path;
   panel.y.label = y_metric;
   panel.empty_note = "no succeeded jobs";

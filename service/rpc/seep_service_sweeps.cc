@@ -30,6 +30,12 @@ const google::protobuf::Message& BaseOf(const v1::Sweep& sweep) {
   return sweep.scene();
 }
 
+// The sweep's own name, else its base's (empty when neither has one).
+const std::string& SweepName(const v1::Sweep& sweep) {
+  if (!sweep.name().empty()) return sweep.name();
+  return sweep.has_calibration() ? sweep.calibration().name() : sweep.scene().name();
+}
+
 // A point whose scene (or calibration) fails its checks. When the failing field is a swept one,
 // the error names that axis' value (where the CLI finds its line); otherwise the base and the
 // point's settings.
@@ -104,8 +110,7 @@ core::Result<std::vector<JobRecord>> SeepServiceImpl::SweepJobs(
   }
   labels.emplace_back(kSweepLabel, sweep_id);
   SEEP_ASSIGN_OR_RETURN(const SweepPlan plan, PlanSweep(sweep, base, kMaxSweepJobs));
-  const std::string& base_name = calibration ? sweep.calibration().name() : sweep.scene().name();
-  const std::string name = !sweep.name().empty() ? sweep.name() : base_name;
+  const std::string& name = SweepName(sweep);
   std::vector<JobRecord> jobs;
   std::size_t total_bytes = 0;
   const std::int64_t now_ms = NowMs();
@@ -198,9 +203,7 @@ grpc::Status SeepServiceImpl::SubmitSweep(grpc::ServerContext* ctx,
     // Every point is made and validated before anything is stored: a bad one leaves no trace.
     SEEP_ASSIGN_OR_RETURN(const std::vector<JobRecord> jobs, SweepJobs(*req, record.id));
     if (!req->request_id().empty()) record.request_id = req->request_id();
-    const std::string& base_name =
-        sweep.has_calibration() ? sweep.calibration().name() : sweep.scene().name();
-    record.name = !sweep.name().empty() ? sweep.name() : base_name;
+    record.name = SweepName(sweep);
     if (!sweep.SerializeToString(&record.definition)) {
       return core::Internal("sweep: could not serialize");
     }

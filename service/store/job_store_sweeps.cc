@@ -41,10 +41,9 @@ Result<SweepInsertOutcome> JobStore::InsertSweep(const SweepRecord& sweep,
   stored.jobs.clear();
   for (std::size_t position = 0; position < jobs.size(); ++position) {
     SEEP_ASSIGN_OR_RETURN(const InsertOutcome job, InsertLocked(jobs[position]));
-    if (!job.created) {
-      return core::InvalidArgument(
-          fmt::format("sweep: job {} has a request_id already used; a sweep's jobs carry none",
-                      jobs[position].id));
+    if (!job.created) {  // a sweep's jobs carry no request_id, so each one is new
+      return core::Internal(
+          fmt::format("store: sweep job {} matched an existing job's request_id", job.job.id));
     }
     member.Reset();
     member.Bind(1, std::string_view(sweep.id))

@@ -188,6 +188,86 @@ TEST_F(SweepService, ZippedTransientSweepMatchesSingleJobsExactly) {
   }
 }
 
+TEST_F(SweepService, CalibrationReplicatesMatchSingleCalibrationsAndRequestIdsRepeat) {
+  Start("data", {"--workers", "2"});
+  v1::Sweep sweep;
+  ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(
+      R"pb(
+        name: "calibrations"
+        calibration {
+          scene {
+            packing {
+              random {
+                seed: 7
+                width_m: 0.04
+                height_m: 0.02
+                min_radius_m: 0.8e-3
+                max_radius_m: 1.0e-3
+                particle_count: 300
+                target_porosity: 0.22
+              }
+              contact_gap_m: 2e-5
+            }
+            fluid { viscosity_pa_s: 1e-3 bulk_modulus_pa: 2.2e9 }
+            aperture { reference_force_n: 10 gap_multiplier: 0.5 }
+            boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 outlet_pressure_pa: 0 }
+          }
+          stress { uniform_normal_force_n: 5 }
+          target_permeabilities_m2: [ 1e-13 ]
+        }
+        replicates { seed_path: "scene.packing.random.seed" count: 2 }
+      )pb",
+      &sweep));
+  grpc::ClientContext ctx;
+  v1::SubmitSweepRequest request;
+  *request.mutable_sweep() = sweep;
+  request.set_request_id("calibrations-1");
+  v1::SubmitSweepResponse submitted;
+  const grpc::Status status = stub_->SubmitSweep(&ctx, request, &submitted);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  ASSERT_EQ(submitted.sweep().jobs_size(), 2);
+  EXPECT_EQ(submitted.sweep().parameters(0), "scene.packing.random.seed");
+  const v1::SweepStatus done = WaitSweepFinished(submitted.sweep().id());
+  ASSERT_EQ(done.counts().succeeded(), 2u) << done.DebugString();
+
+  // The same request id: the same sweep, nothing new; with another sweep: ALREADY_EXISTS.
+  {
+    grpc::ClientContext again;
+    v1::SubmitSweepResponse repeated;
+    ASSERT_TRUE(stub_->SubmitSweep(&again, request, &repeated).ok());
+    EXPECT_FALSE(repeated.created());
+    EXPECT_EQ(repeated.sweep().id(), done.id());
+    EXPECT_EQ(repeated.sweep().jobs(1).job().id(), done.jobs(1).job().id());
+    grpc::ClientContext other;
+    request.mutable_sweep()->mutable_replicates()->set_count(3);
+    EXPECT_EQ(stub_->SubmitSweep(&other, request, &repeated).error_code(),
+              grpc::StatusCode::ALREADY_EXISTS);
+  }
+
+  for (int p = 0; p < 2; ++p) {
+    EXPECT_EQ(done.jobs(p).settings(0).number(), 7.0 + p);  // from the base's own seed on
+    const v1::Job swept = Get(done.jobs(p).job().id());
+    EXPECT_EQ(swept.kind(), v1::JOB_KIND_CALIBRATION);
+    v1::Calibration by_hand = sweep.calibration();
+    by_hand.mutable_scene()->mutable_packing()->mutable_random()->set_seed(7 + p);
+    grpc::ClientContext single_ctx;
+    v1::SubmitJobRequest single_request;
+    *single_request.mutable_calibration() = by_hand;
+    v1::SubmitJobResponse single;
+    ASSERT_TRUE(stub_->SubmitJob(&single_ctx, single_request, &single).ok());
+    const v1::Job alone = WaitTerminal(single.job().id());
+    ASSERT_EQ(alone.state(), v1::JOB_STATE_SUCCEEDED) << alone.DebugString();
+    ASSERT_GT(alone.result().metrics().size(), 0u);
+    ASSERT_EQ(swept.result().metrics().size(), alone.result().metrics().size());
+    for (const auto& [name, value] : alone.result().metrics()) {
+      EXPECT_EQ(swept.result().metrics().at(name), value) << name;
+    }
+  }
+  // Two seeds, two packings: the calibrated a0 differs between the replicates.
+  EXPECT_NE(Get(done.jobs(0).job().id()).result().metrics().at("residual_aperture_m[0]"),
+            Get(done.jobs(1).job().id()).result().metrics().at("residual_aperture_m[0]"));
+}
+
 TEST_F(SweepService, RefusalsNameTheFieldAndStoreNothing) {
   Start("data", {"--workers", "1"});
   const v1::Scene base = QuickScene();
