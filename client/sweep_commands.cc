@@ -184,62 +184,40 @@ int PlotSweep(const GlobalOptions& global, const SweepOptions& options) {
   return 0;
 }
 
-int CancelSweep(const GlobalOptions& global, const std::string& id) {
+// cancel, resume and delete: one call on the sweep, then its response as JSON or as the line
+// `describe` makes of it.
+template <typename Request, typename Response>
+int ActOnSweep(const GlobalOptions& global, const char* what,
+               grpc::Status (v1::SeepService::Stub::*method)(grpc::ClientContext*, const Request&,
+                                                             Response*),
+               const std::string& id, std::string (*describe)(const Response&)) {
   auto stub = v1::SeepService::NewStub(OpenChannel(global));
-  v1::CancelSweepResponse response;
-  if (const int failed = CallOnSweep(global, *stub, "sweep cancel",
-                                     &v1::SeepService::Stub::CancelSweep, id, &response);
-      failed != 0) {
+  Response response;
+  if (const int failed = CallOnSweep(global, *stub, what, method, id, &response); failed != 0) {
     return failed;
   }
   if (global.json) {
     std::cout << MessageToJson(response);
   } else {
-    std::cout << fmt::format(
-                     "sweep {}: {} queued job(s) cancelled, {} running job(s) stop at their next "
-                     "step",
-                     id, response.jobs_cancelled(), response.cancels_requested())
-              << std::endl;
+    std::cout << describe(response) << std::endl;
   }
   return 0;
 }
 
-int ResumeSweep(const GlobalOptions& global, const std::string& id) {
-  auto stub = v1::SeepService::NewStub(OpenChannel(global));
-  v1::ResumeSweepResponse response;
-  if (const int failed = CallOnSweep(global, *stub, "sweep resume",
-                                     &v1::SeepService::Stub::ResumeSweep, id, &response);
-      failed != 0) {
-    return failed;
-  }
-  if (global.json) {
-    std::cout << MessageToJson(response);
-  } else {
-    std::cout << fmt::format("sweep {}: {} job(s) queued again", id, response.jobs_resumed())
-              << std::endl;
-  }
-  return 0;
+std::string DescribeCancel(const v1::CancelSweepResponse& r) {
+  return fmt::format(
+      "sweep {}: {} queued job(s) cancelled, {} running job(s) stop at their next "
+      "step",
+      r.sweep().id(), r.jobs_cancelled(), r.cancels_requested());
 }
 
-int DeleteSweep(const GlobalOptions& global, const std::string& id) {
-  auto stub = v1::SeepService::NewStub(OpenChannel(global));
-  v1::DeleteSweepResponse response;
-  if (const int failed = CallOnSweep(global, *stub, "sweep delete",
-                                     &v1::SeepService::Stub::DeleteSweep, id, &response);
-      failed != 0) {
-    return failed;
-  }
-  if (global.json) {
-    std::cout << MessageToJson(response);
-  } else {
-    std::cout << fmt::format(
-                     "sweep {} deleted with {} job(s) ({} checkpoint file(s), {} bytes "
-                     "freed)",
-                     id, response.jobs_deleted(), response.checkpoints_deleted(),
-                     response.bytes_freed())
-              << std::endl;
-  }
-  return 0;
+std::string DescribeResume(const v1::ResumeSweepResponse& r) {
+  return fmt::format("sweep {}: {} job(s) queued again", r.sweep().id(), r.jobs_resumed());
+}
+
+std::string DescribeDelete(const v1::DeleteSweepResponse& r) {
+  return fmt::format("sweep {} deleted with {} job(s) ({} checkpoint file(s), {} bytes freed)",
+                     r.id(), r.jobs_deleted(), r.checkpoints_deleted(), r.bytes_freed());
 }
 
 }  // namespace
@@ -289,9 +267,18 @@ int RunSweepCommands(const GlobalOptions& global, const SweepCommands& commands)
   if (*commands.submit_cmd) return SubmitSweep(global, o);
   if (*commands.show_cmd) return ShowSweep(global, o);
   if (*commands.plot_cmd) return PlotSweep(global, o);
-  if (*commands.cancel_cmd) return CancelSweep(global, o.sweep_id);
-  if (*commands.resume_cmd) return ResumeSweep(global, o.sweep_id);
-  if (*commands.delete_cmd) return DeleteSweep(global, o.sweep_id);
+  if (*commands.cancel_cmd) {
+    return ActOnSweep(global, "sweep cancel", &v1::SeepService::Stub::CancelSweep, o.sweep_id,
+                      &DescribeCancel);
+  }
+  if (*commands.resume_cmd) {
+    return ActOnSweep(global, "sweep resume", &v1::SeepService::Stub::ResumeSweep, o.sweep_id,
+                      &DescribeResume);
+  }
+  if (*commands.delete_cmd) {
+    return ActOnSweep(global, "sweep delete", &v1::SeepService::Stub::DeleteSweep, o.sweep_id,
+                      &DescribeDelete);
+  }
   return kExitUsage;
 }
 
