@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -68,7 +69,10 @@ int WatchSweep(const GlobalOptions& global, const std::string& id) {
       return failed;
     }
     const bool finished = SweepFinished(response.sweep());
-    const std::string line = FormatSweepProgress(response.sweep());
+    std::string line = FormatSweepProgress(response.sweep());
+    // A wrapped line could not be redrawn in place: a terminal gets it cut to its width.
+    const auto columns = static_cast<std::size_t>(std::max(StdoutColumns() - 1, 20));
+    if (tty && line.size() > columns) line.resize(columns);
     const auto now = std::chrono::steady_clock::now();
     const bool due = now - last_print >= std::chrono::seconds(1) || finished;
     if (!global.json && line != last_line && (tty || due)) {

@@ -85,10 +85,10 @@ bool SweepFinished(const v1::SweepStatus& sweep) {
 std::string FormatSweepProgress(const v1::SweepStatus& sweep) {
   const v1::SweepCounts& c = sweep.counts();
   return fmt::format(
-      "{:<9} sweep {}  {} jobs: {} queued, {} running, {} succeeded, {} failed, {} cancelled  "
-      "{:5.1f}%",
-      SweepStateWord(sweep), sweep.id(), sweep.jobs_size(), c.queued(), c.running(), c.succeeded(),
-      c.failed(), c.cancelled(), 100.0 * sweep.fraction_done());
+      "{:<9} {:5.1f}%  sweep {}  {} jobs: {} queued, {} running, {} succeeded, {} failed, {} "
+      "cancelled",
+      SweepStateWord(sweep), 100.0 * sweep.fraction_done(), sweep.id(), sweep.jobs_size(),
+      c.queued(), c.running(), c.succeeded(), c.failed(), c.cancelled());
 }
 
 std::vector<std::string> SweepMetricColumns(const v1::SweepStatus& sweep,

@@ -12,7 +12,8 @@ namespace seep::client {
 // One value of a swept parameter as text: a number in its shortest exact form.
 std::string SettingText(const v1::SweepSetting& setting);
 
-// "RUNNING   sweep s-… 6 jobs: 1 queued, 2 running, 3 succeeded, 0 failed, 0 cancelled  54.2%".
+// "RUNNING    54.2%  sweep s-…  6 jobs: 1 queued, 2 running, 3 succeeded, 0 failed, 0 cancelled"
+// (the state and percent first, so that a line cut to a terminal's width keeps them).
 std::string FormatSweepProgress(const v1::SweepStatus& sweep);
 
 // True when every job of the sweep is SUCCEEDED, FAILED or CANCELLED.

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "seepd_fixture.h"
+#include "terminal_run.h"
 
 namespace seep::testing {
 namespace {
@@ -81,9 +82,9 @@ TEST_F(CliSweeps, SubmitWatchShowCsvJsonAndPlot) {
             std::string::npos)
       << submit.output;
   // stdout is a pipe: whole progress lines, the last one the finished sweep, then the table.
-  EXPECT_NE(submit.output.find("SUCCEEDED sweep " + id +
+  EXPECT_NE(submit.output.find("SUCCEEDED 100.0%  sweep " + id +
                                "  6 jobs: 0 queued, 0 running, 6 succeeded, 0 failed, 0 "
-                               "cancelled  100.0%\n"),
+                               "cancelled\n"),
             std::string::npos)
       << submit.output;
   EXPECT_EQ(submit.output.find('\r'), std::string::npos);
@@ -152,6 +153,23 @@ TEST_F(CliSweeps, SubmitWatchShowCsvJsonAndPlot) {
   EXPECT_EQ(bad_metric.exit_code, 3);
   EXPECT_NE(bad_metric.output.find("--metrics permeability: no job of sweep"), std::string::npos)
       << bad_metric.output;
+}
+
+TEST_F(CliSweeps, WatchRedrawsOneLineCutToTheTerminal) {
+  const CommandResult run = RunOnTerminal({SEEP_CLI_PATH, "--server", address_, "sweep", "submit",
+                                           Write("sweep.textproto", kProductSweep), "--watch"},
+                                          60);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // The final line: cursor back, line cleared, state and percent first, cut to 59 columns.
+  const auto final_line = run.output.find("\r\033[KSUCCEEDED 100.0%  sweep s-");
+  ASSERT_NE(final_line, std::string::npos) << run.output;
+  std::size_t start = 0;
+  while ((start = run.output.find("\r\033[K", start)) != std::string::npos) {
+    start += 4;
+    const auto end = run.output.find_first_of("\r\n", start);
+    EXPECT_LE(end - start, 59u) << run.output.substr(start, end - start);
+  }
+  EXPECT_NE(run.output.find("POSITION  JOB", final_line), std::string::npos) << run.output;
 }
 
 TEST_F(CliSweeps, BadValueIsPointedAtItsLineAndNothingIsQueued) {

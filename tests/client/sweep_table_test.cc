@@ -71,8 +71,8 @@ TEST(SweepTable, RequestedMetricsMustExistOnSomeJob) {
 
 TEST(SweepTable, ProgressLineCountsStatesAndPercent) {
   EXPECT_EQ(FormatSweepProgress(TwoJobs()),
-            "RUNNING   sweep s-00000000000000ab  2 jobs: 0 queued, 1 running, 1 succeeded, 0 "
-            "failed, 0 cancelled   62.5%");
+            "RUNNING    62.5%  sweep s-00000000000000ab  2 jobs: 0 queued, 1 running, 1 "
+            "succeeded, 0 failed, 0 cancelled");
   EXPECT_FALSE(SweepFinished(TwoJobs()));
 }
 
