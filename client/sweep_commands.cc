@@ -167,7 +167,8 @@ int PlotSweep(const GlobalOptions& global, const SweepOptions& options) {
     return failed;
   }
   std::string error;
-  const plot::Chart chart = SweepChart(response.sweep(), options.x_path, options.y_metric, &error);
+  const SweepChartRequest request{options.x_path, options.y_metric, options.log_x, options.log_y};
+  const plot::Chart chart = SweepChart(response.sweep(), request, &error);
   if (!error.empty()) {
     std::fprintf(stderr, "seep: sweep plot: %s\n", error.c_str());
     return kBadInput;
@@ -255,6 +256,8 @@ SweepCommands AddSweepCommands(CLI::App& app) {
   c.plot_cmd->add_option("--x", o.x_path, "the swept parameter (its field path)")->required();
   c.plot_cmd->add_option("--y", o.y_metric, "the result metric")->required();
   c.plot_cmd->add_option("--out", o.out_file, "SVG file to write")->required();
+  c.plot_cmd->add_flag("--log-x", o.log_x, "log10 scale for the parameter");
+  c.plot_cmd->add_flag("--log-y", o.log_y, "log10 scale for the metric");
   c.cancel_cmd = c.sweep_cmd->add_subcommand("cancel", "cancel every queued or running job");
   c.cancel_cmd->add_option("sweep", o.sweep_id, "sweep id")->required();
   c.resume_cmd = c.sweep_cmd->add_subcommand("resume", "run every failed or cancelled job again");

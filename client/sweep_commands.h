@@ -24,6 +24,8 @@ struct SweepOptions {
   std::string x_path;                // plot
   std::string y_metric;              // plot
   std::string out_file;              // plot
+  bool log_x = false;                // plot
+  bool log_y = false;                // plot
 };
 
 // The `sweep` command and its subcommands (options held by pointer: CLI11 keeps addresses).

@@ -34,8 +34,10 @@ std::string GroupName(const v1::SweepJob& member, int x_index,
 
 }  // namespace
 
-plot::Chart SweepChart(const v1::SweepStatus& sweep, const std::string& x_path,
-                       const std::string& y_metric, std::string* error) {
+plot::Chart SweepChart(const v1::SweepStatus& sweep, const SweepChartRequest& request,
+                       std::string* error) {
+  const std::string& x_path = request.x_path;
+  const std::string& y_metric = request.y_metric;
   const auto& parameters = sweep.parameters();
   const auto found = std::find(parameters.begin(), parameters.end(), x_path);
   if (found == parameters.end()) {
@@ -77,6 +79,8 @@ plot::Chart SweepChart(const v1::SweepStatus& sweep, const std::string& x_path,
   panel.title = fmt::format("{} against {}", y_metric, x_path);  // the file names the sweep
   panel.x.label = x_path;
   panel.y.label = y_metric;
+  if (request.log_x) panel.x.scale = plot::Scale::kLog10;
+  if (request.log_y) panel.y.scale = plot::Scale::kLog10;
   panel.empty_note = "no succeeded jobs";
   plot::Chart chart;
   chart.panel_width = 720.0;

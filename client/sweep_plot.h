@@ -9,9 +9,17 @@
 
 namespace seep::client {
 
-// The SUCCEEDED jobs' metric y_metric against parameter x_path. Returns an empty chart and sets
-// *error when x_path is not a numeric parameter of the sweep, or no succeeded job has y_metric.
-plot::Chart SweepChart(const v1::SweepStatus& sweep, const std::string& x_path,
-                       const std::string& y_metric, std::string* error);
+// How `seep sweep plot` draws: which metric against which parameter, on which scales.
+struct SweepChartRequest {
+  std::string x_path;
+  std::string y_metric;
+  bool log_x = false;  // log10 axes (points <= 0 are left out there)
+  bool log_y = false;
+};
+
+// The SUCCEEDED jobs' metric against the parameter. Returns an empty chart and sets *error when
+// the parameter is not a numeric one of the sweep, or no succeeded job has the metric.
+plot::Chart SweepChart(const v1::SweepStatus& sweep, const SweepChartRequest& request,
+                       std::string* error);
 
 }  // namespace seep::client

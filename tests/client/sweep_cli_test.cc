@@ -144,6 +144,19 @@ TEST_F(CliSweeps, SubmitWatchShowCsvJsonAndPlot) {
   // One line per inlet pressure, named in the legend.
   EXPECT_NE(drawn.find("boundary.inlet_pressure_pa = 100000"), std::string::npos);
   EXPECT_NE(drawn.find("boundary.inlet_pressure_pa = 200000"), std::string::npos);
+  EXPECT_EQ(drawn.find(">1e-14<"), std::string::npos);  // linear axes: no decade labels
+  // On log axes k = a0^3 / (24 R) spans the decades 1e-14 .. 1e-11 (a0 from 1e-5 to 4e-5).
+  const CommandResult log_plot =
+      Seep({"sweep", "plot", id, "--x", "aperture.residual_aperture_m", "--y", "permeability_m2",
+            "--log-x", "--log-y", "--out", svg});
+  ASSERT_EQ(log_plot.exit_code, 0) << log_plot.output;
+  std::ifstream log_in(svg);
+  const std::string log_drawn((std::istreambuf_iterator<char>(log_in)),
+                              std::istreambuf_iterator<char>());
+  for (const char* decade : {">1e-14<", ">1e-11<", ">1e-5<", ">1e-4<"}) {
+    EXPECT_NE(log_drawn.find(decade), std::string::npos) << decade;
+  }
+  EXPECT_EQ(log_drawn.find(">1e-10<"), std::string::npos);
   const CommandResult bad_x = Seep(
       {"sweep", "plot", id, "--x", "fluid.viscosity_pa_s", "--y", "permeability_m2", "--out", svg});
   EXPECT_EQ(bad_x.exit_code, 3);
