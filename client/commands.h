@@ -24,8 +24,8 @@ inline constexpr const char* kExitCodeHelp =
     "  14  server unreachable (or the call timed out: --timeout)\n"
     "  16  missing or wrong token\n"
     "  1-16 any other gRPC status code of the failed call\n"
-    "  20  the watched job FAILED\n"
-    "  21  the watched job was CANCELLED\n"
+    "  20  the watched job FAILED (sweep submit --watch: one of its jobs)\n"
+    "  21  the watched job was CANCELLED (sweep: one was, and none FAILED)\n"
     "  64  wrong command line (unknown option, missing argument)\n"
     "With --json, stdout holds one JSON document (messages go to stderr).\n"
     "Environment: SEEP_SERVER (--server), SEEP_TOKEN (--token).";
