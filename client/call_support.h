@@ -19,5 +19,7 @@ void PrepareUnaryCall(const GlobalOptions& global, grpc::ClientContext* ctx);
 int ReportCallError(const GlobalOptions& global, const char* what, const grpc::Status& status);
 std::string MessageToJson(const google::protobuf::Message& message);
 std::string NewSubmitRequestId();
+// Width of the terminal on stdout; 80 when it cannot be told.
+int StdoutColumns();
 
 }  // namespace seep::client

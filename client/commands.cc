@@ -459,5 +459,6 @@ int ReportCallError(const GlobalOptions& global, const char* what, const grpc::S
 }
 std::string MessageToJson(const google::protobuf::Message& message) { return ToJson(message); }
 std::string NewSubmitRequestId() { return NewRequestId(); }
+int StdoutColumns() { return TerminalColumns(); }
 
 }  // namespace seep::client

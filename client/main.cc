@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "field_commands.h"
 #include "job_admin_commands.h"
+#include "sweep_commands.h"
 
 int main(int argc, char** argv) {
   using namespace seep::client;  // NOLINT(google-build-using-namespace)
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--json", global.json,
                "print machine-readable JSON on stdout (submit, show, list, result, watch, cancel, "
-               "resume, delete, events, health, calibrate, calibrations)");
+               "resume, delete, events, health, calibrate, calibrations, sweep)");
   app.add_option("--token", global.token,
                  "bearer token for a seepd started with a token (visible in ps: prefer "
                  "SEEP_TOKEN or --token-file)")
@@ -127,6 +128,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   const FieldCommands field_commands = AddFieldCommands(app);
+  const SweepCommands sweep_commands = AddSweepCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -137,6 +139,7 @@ int main(int argc, char** argv) {
   }
   if (const int bad = LoadCredentials(&global); bad != 0) return bad;
   if (const int rc = RunFieldCommands(global, field_commands); rc >= 0) return rc;
+  if (const int rc = RunSweepCommands(global, sweep_commands); rc >= 0) return rc;
   if (*submit_cmd) return Submit(global, submit);
   if (*watch_cmd) return Watch(global, job_id);
   if (*show_cmd) return Show(global, job_id);

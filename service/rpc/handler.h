@@ -49,6 +49,12 @@ inline core::Status RequireId(const std::string& id, const char* field) {
   return core::InvalidArgument(fmt::format("{}: is required", field));
 }
 
+// SubmitJobRequest and SubmitSweepRequest share these checks: INVALID_ARGUMENT naming the field.
+core::Status CheckRequestId(const std::string& request_id);
+core::Status CheckPriority(std::int32_t priority);
+// A new random id with the kind's prefix ("j" for jobs, "s" for sweeps): see seep_service.cc.
+core::Result<std::string> NewRandomId(char prefix);
+
 // A list call's page size: 0 asks for the default (50), and at most 1000 are returned.
 inline std::uint32_t PageSize(std::uint32_t requested) {
   constexpr std::uint32_t kDefault = 50;

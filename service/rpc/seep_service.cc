@@ -21,15 +21,27 @@ constexpr std::int32_t kMinPriority = -1000;
 constexpr std::int32_t kMaxPriority = 1000;
 constexpr std::size_t kMaxNameFilterLength = 200;
 
-// Job ids are random, not sequential, so that two servers' ids never collide when records are
-// merged, and from the kernel's cryptographic generator so that one id says nothing of the next;
-// 64 bits of entropy.
-core::Result<std::string> NewJobId() {
+}  // namespace
+
+// Job and sweep ids are random, not sequential, so that two servers' ids never collide when
+// records are merged, and from the kernel's cryptographic generator so that one id says nothing
+// of the next; 64 bits of entropy.
+core::Result<std::string> NewRandomId(char prefix) {
   SEEP_ASSIGN_OR_RETURN(const std::uint64_t bits, SecureRandomU64());
-  return fmt::format("j-{:016x}", bits);
+  return fmt::format("{}-{:016x}", prefix, bits);
 }
 
-}  // namespace
+core::Status CheckRequestId(const std::string& request_id) {
+  if (request_id.size() <= kMaxRequestIdLength) return core::Status::Ok();
+  return core::InvalidArgument(
+      fmt::format("request_id: at most {} characters", kMaxRequestIdLength));
+}
+
+core::Status CheckPriority(std::int32_t priority) {
+  if (priority >= kMinPriority && priority <= kMaxPriority) return core::Status::Ok();
+  return core::InvalidArgument(fmt::format("priority: must be between {} and {} (got {})",
+                                           kMinPriority, kMaxPriority, priority));
+}
 
 SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, PhysicsPool& physics,
                                  std::string build_id, ServiceHooks hooks,
@@ -44,8 +56,8 @@ SeepServiceImpl::SeepServiceImpl(JobStore& store, JobHub& hub, PhysicsPool& phys
       guards_(guards),
       metrics_(metrics) {}
 
-core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id) {
-  SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Get(id));
+core::Result<JobRecord> SeepServiceImpl::LoadJob(const std::string& id, bool with_scene) {
+  SEEP_ASSIGN_OR_RETURN(JobRecord job, with_scene ? store_.Get(id) : store_.GetWithoutScene(id));
   if (job.state == JobState::kRunning) {
     if (auto live = hub_.Live(id)) job.progress = *live;
   }
@@ -62,17 +74,11 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
     if (!req->has_scene() && !req->has_calibration()) {
       return core::InvalidArgument("scene: is required");
     }
-    if (req->request_id().size() > kMaxRequestIdLength) {
-      return core::InvalidArgument(
-          fmt::format("request_id: at most {} characters", kMaxRequestIdLength));
-    }
-    if (req->priority() < kMinPriority || req->priority() > kMaxPriority) {
-      return core::InvalidArgument(fmt::format("priority: must be between {} and {} (got {})",
-                                               kMinPriority, kMaxPriority, req->priority()));
-    }
+    SEEP_RETURN_IF_ERROR(CheckRequestId(req->request_id()));
+    SEEP_RETURN_IF_ERROR(CheckPriority(req->priority()));
     JobRecord job;
     SEEP_ASSIGN_OR_RETURN(job.labels, CheckLabels(req->labels()));
-    SEEP_ASSIGN_OR_RETURN(job.id, NewJobId());
+    SEEP_ASSIGN_OR_RETURN(job.id, NewRandomId('j'));
     job.priority = req->priority();
     if (req->has_calibration()) {
       // seep_service_calibrations.cc: checks, from_job_id, validation, serialization.
@@ -82,19 +88,8 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
       job.name = prepared.name.empty() ? job.id : prepared.name;
       job.scene = std::move(prepared.bytes);
     } else {
-      // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
-      if (const std::size_t bytes = req->scene().ByteSizeLong(); bytes > guards_.max_scene_bytes) {
-        return core::InvalidArgument(
-            fmt::format("scene: {} bytes exceed the limit of {} (seepd --max-scene-bytes)", bytes,
-                        guards_.max_scene_bytes));
-      }
-      // Decoded and validated fully, once, before anything is stored: a bad scene leaves no
-      // trace. The run decodes the stored bytes again and Simulation::Create validates them.
-      SEEP_RETURN_IF_ERROR(SceneFromProto(req->scene()).status());
+      SEEP_ASSIGN_OR_RETURN(job.scene, PrepareSimulationJob(req->scene()));
       job.name = req->scene().name().empty() ? job.id : req->scene().name();
-      if (!req->scene().SerializeToString(&job.scene)) {
-        return core::Internal("scene: could not serialize");
-      }
     }
     if (!req->request_id().empty()) job.request_id = req->request_id();
     job.build_id = build_id_;
@@ -111,6 +106,21 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
     resp->set_created(outcome.created);
     return core::Status::Ok();
   });
+}
+
+core::Result<std::string> SeepServiceImpl::PrepareSimulationJob(const v1::Scene& scene) {
+  // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
+  if (const std::size_t bytes = scene.ByteSizeLong(); bytes > guards_.max_scene_bytes) {
+    return core::InvalidArgument(
+        fmt::format("scene: {} bytes exceed the limit of {} (seepd --max-scene-bytes)", bytes,
+                    guards_.max_scene_bytes));
+  }
+  // Decoded and validated fully, once, before anything is stored: a bad scene leaves no
+  // trace. The run decodes the stored bytes again and Simulation::Create validates them.
+  SEEP_RETURN_IF_ERROR(SceneFromProto(scene).status());
+  std::string bytes;
+  if (!scene.SerializeToString(&bytes)) return core::Internal("scene: could not serialize");
+  return bytes;
 }
 
 grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
@@ -210,14 +220,7 @@ grpc::Status SeepServiceImpl::CancelJob(grpc::ServerContext* ctx, const v1::Canc
                                         v1::CancelJobResponse* resp) {
   return Guarded(ctx, "CancelJob", [&]() -> core::Status {
     SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
-    SEEP_ASSIGN_OR_RETURN(const JobRecord job, store_.Cancel(req->id(), NowMs()));
-    if (job.state == JobState::kRunning) {
-      logger_->info("job {}: cancel requested while running", job.id);
-      if (hooks_.cancel_running) hooks_.cancel_running(job.id);
-    } else {
-      logger_->info("job {}: cancelled before it started", job.id);
-    }
-    hub_.RecordChanged(job.id);
+    SEEP_ASSIGN_OR_RETURN(const JobRecord job, CancelOne(req->id()));
     SEEP_ASSIGN_OR_RETURN(const JobRecord current, LoadJob(job.id));
     JobToProto(current, /*with_scene=*/false, resp->mutable_job());
     return core::Status::Ok();
@@ -228,13 +231,30 @@ grpc::Status SeepServiceImpl::ResumeJob(grpc::ServerContext* ctx, const v1::Resu
                                         v1::ResumeJobResponse* resp) {
   return Guarded(ctx, "ResumeJob", [&]() -> core::Status {
     SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
-    SEEP_ASSIGN_OR_RETURN(const JobRecord job, store_.Resume(req->id()));
-    logger_->info("job {}: resumed as attempt {} (runs again from the start)", job.id, job.attempt);
-    hub_.RecordChanged(job.id);
-    if (hooks_.wake_workers) hooks_.wake_workers();
+    SEEP_ASSIGN_OR_RETURN(const JobRecord job, ResumeOne(req->id()));
     JobToProto(job, /*with_scene=*/false, resp->mutable_job());
     return core::Status::Ok();
   });
+}
+
+core::Result<JobRecord> SeepServiceImpl::CancelOne(const std::string& id) {
+  SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Cancel(id, NowMs()));
+  if (job.state == JobState::kRunning) {
+    logger_->info("job {}: cancel requested while running", job.id);
+    if (hooks_.cancel_running) hooks_.cancel_running(job.id);
+  } else {
+    logger_->info("job {}: cancelled before it started", job.id);
+  }
+  hub_.RecordChanged(job.id);
+  return job;
+}
+
+core::Result<JobRecord> SeepServiceImpl::ResumeOne(const std::string& id) {
+  SEEP_ASSIGN_OR_RETURN(JobRecord job, store_.Resume(id));
+  logger_->info("job {}: resumed as attempt {} (runs again from the start)", job.id, job.attempt);
+  hub_.RecordChanged(job.id);
+  if (hooks_.wake_workers) hooks_.wake_workers();
+  return job;
 }
 
 grpc::Status SeepServiceImpl::GetResult(grpc::ServerContext* ctx, const v1::GetResultRequest* req,

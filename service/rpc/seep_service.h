@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "jobs/checkpoint_removal.h"
 #include "jobs/job_hub.h"
 #include "jobs/physics_pool.h"
 #include "metrics/service_metrics.h"
@@ -73,6 +74,12 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   grpc::Status DeleteJob(Ctx*, const v1::DeleteJobRequest*, v1::DeleteJobResponse*) override;
   grpc::Status ListJobEvents(Ctx*, const v1::ListJobEventsRequest*,
                              v1::ListJobEventsResponse*) override;
+  // seep_service_sweeps.cc
+  grpc::Status SubmitSweep(Ctx*, const v1::SubmitSweepRequest*, v1::SubmitSweepResponse*) override;
+  grpc::Status GetSweep(Ctx*, const v1::GetSweepRequest*, v1::GetSweepResponse*) override;
+  grpc::Status CancelSweep(Ctx*, const v1::CancelSweepRequest*, v1::CancelSweepResponse*) override;
+  grpc::Status ResumeSweep(Ctx*, const v1::ResumeSweepRequest*, v1::ResumeSweepResponse*) override;
+  grpc::Status DeleteSweep(Ctx*, const v1::DeleteSweepRequest*, v1::DeleteSweepResponse*) override;
 
  private:
   // Runs a handler body: rpc/handler.h.
@@ -87,6 +94,24 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   // The calibration half of SubmitJob (seep_service_calibrations.cc). Nothing is stored for a
   // calibration that fails its checks.
   core::Result<PreparedCalibration> PrepareCalibrationJob(const v1::Calibration& calibration);
+  // The simulation half: the size limit, full validation, and the serialized scene.
+  core::Result<std::string> PrepareSimulationJob(const v1::Scene& scene);
+
+  // What CancelJob, ResumeJob and DeleteJob do to one job, shared with the sweep calls: the
+  // store's change, the log line, and the hub and workers told. Delete removes the files of the
+  // records the store returned.
+  core::Result<JobRecord> CancelOne(const std::string& id);
+  core::Result<JobRecord> ResumeOne(const std::string& id);
+  RemovedFiles FinishDeletion(const std::vector<std::string>& job_ids,
+                              const std::vector<CheckpointRecord>& records);
+
+  // The sweep with its jobs as they are now (seep_service_sweeps.cc), and its definition as
+  // submitted when definition_out is given.
+  core::Status FillSweepStatus(const SweepRecord& record, v1::SweepStatus* out,
+                               v1::Sweep* definition_out = nullptr);
+  // Every point of a submitted sweep as a job ready to store, or the point's error.
+  core::Result<std::vector<JobRecord>> SweepJobs(const v1::SubmitSweepRequest& request,
+                                                 const std::string& sweep_id);
 
   // WatchJob's stream of one job, until it is terminal, the call ends or seepd shuts down.
   core::Status StreamJob(grpc::ServerContext& ctx, const std::string& id,
@@ -94,7 +119,7 @@ class SeepServiceImpl final : public v1::SeepService::Service {
                          grpc::ServerWriter<v1::JobEvent>& writer);
 
   // The stored job with the hub's live progress laid over it.
-  core::Result<JobRecord> LoadJob(const std::string& id);
+  core::Result<JobRecord> LoadJob(const std::string& id, bool with_scene = true);
 
   JobStore& store_;
   JobHub& hub_;

@@ -16,15 +16,21 @@ grpc::Status SeepServiceImpl::DeleteJob(grpc::ServerContext* ctx, const v1::Dele
     // The records go first, in one transaction; the files after. A crash in between leaves
     // files no record points to, which the next start's sweep removes.
     SEEP_ASSIGN_OR_RETURN(const std::vector<CheckpointRecord> records, store_.Delete(req->id()));
-    const RemovedFiles removed = RemoveCheckpointFiles(records, *logger_);
+    const RemovedFiles removed = FinishDeletion({req->id()}, records);
     logger_->info("job {} deleted with {} checkpoint file(s), {} bytes", req->id(), removed.files,
                   removed.bytes);
-    hub_.Finished(req->id());
     resp->set_id(req->id());
     resp->set_checkpoints_deleted(static_cast<std::uint32_t>(removed.files));
     resp->set_bytes_freed(removed.bytes);
     return core::Status::Ok();
   });
+}
+
+RemovedFiles SeepServiceImpl::FinishDeletion(const std::vector<std::string>& job_ids,
+                                             const std::vector<CheckpointRecord>& records) {
+  const RemovedFiles removed = RemoveCheckpointFiles(records, *logger_);
+  for (const std::string& id : job_ids) hub_.Finished(id);
+  return removed;
 }
 
 grpc::Status SeepServiceImpl::ListJobEvents(grpc::ServerContext* ctx,

@@ -176,6 +176,23 @@ CREATE TABLE job_labels (
 CREATE INDEX job_labels_by_pair ON job_labels(key, value);
 CREATE INDEX jobs_by_finished ON jobs(finished_at_ms) WHERE finished_at_ms IS NOT NULL;
 )sql",
+    // v9: sweeps (job_store_sweeps.cc): the submitted seep.v1.Sweep, and which job is which of
+    // its points. A job deleted on its own (or by retention) leaves its sweep.
+    R"sql(
+CREATE TABLE sweeps (
+  id TEXT PRIMARY KEY,
+  request_id TEXT UNIQUE,
+  name TEXT NOT NULL,
+  definition BLOB NOT NULL,
+  created_at_ms INTEGER NOT NULL
+) STRICT;
+CREATE TABLE sweep_jobs (
+  sweep_id TEXT NOT NULL REFERENCES sweeps(id) ON DELETE CASCADE,
+  position INTEGER NOT NULL,
+  job_id TEXT NOT NULL UNIQUE REFERENCES jobs(id) ON DELETE CASCADE,
+  PRIMARY KEY (sweep_id, position)
+) STRICT;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -302,11 +319,17 @@ Result<std::optional<std::string>> JobStore::FindByRequestIdLocked(const std::st
 }
 
 Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
-  auto labels = job.labels;
-  std::sort(labels.begin(), labels.end());
   const StoreOperation operation("insert job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_ASSIGN_OR_RETURN(InsertOutcome outcome, InsertLocked(job));
+  if (outcome.created) SEEP_RETURN_IF_ERROR(tx.Commit());
+  return outcome;
+}
+
+Result<InsertOutcome> JobStore::InsertLocked(const JobRecord& job) {
+  auto labels = job.labels;
+  std::sort(labels.begin(), labels.end());
   if (job.request_id) {
     SEEP_ASSIGN_OR_RETURN(const auto existing, FindByRequestIdLocked(*job.request_id));
     if (existing) {
@@ -345,7 +368,6 @@ Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
       AddEventLocked(*db_, job.id, job.created_at_ms, "SUBMITTED",
                      fmt::format("{} job, priority {}, {} label(s)", JobKindName(job.kind),
                                  job.priority, labels.size())));
-  SEEP_RETURN_IF_ERROR(tx.Commit());
   JobRecord stored = job;
   stored.labels = std::move(labels);
   stored.state = JobState::kQueued;

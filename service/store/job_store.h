@@ -17,6 +17,7 @@
 #include "job_record.h"
 #include "seep/core/status.h"
 #include "stored_calibration.h"
+#include "sweep_record.h"
 
 namespace seep::service {
 
@@ -76,7 +77,7 @@ struct CrashLoopFailure {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 8;
+  static constexpr int kSchemaVersion = 9;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
@@ -124,6 +125,18 @@ class JobStore {
   // transaction; a QUEUED or RUNNING job is FAILED_PRECONDITION naming its state, an unknown one
   // NOT_FOUND. Returns its checkpoint records (resolved paths): the caller removes the files.
   Result<std::vector<CheckpointRecord>> Delete(const std::string& id);
+  // Sweeps (job_store_sweeps.cc). InsertSweep stores the sweep and its jobs (new QUEUED jobs,
+  // in position order) in one transaction; with a request_id already present it returns that
+  // sweep instead (ALREADY_EXISTS when its definition differs), storing nothing.
+  Result<SweepInsertOutcome> InsertSweep(const SweepRecord& sweep,
+                                         const std::vector<JobRecord>& jobs);
+  // The sweep with its job ids by position (jobs deleted on their own are missing); NOT_FOUND
+  // for an unknown sweep.
+  Result<SweepRecord> GetSweep(const std::string& id);
+  // Removes the sweep and every job of it (as Delete) in one transaction: FAILED_PRECONDITION
+  // naming the first QUEUED or RUNNING job, when it has one, and nothing is removed. Returns the
+  // checkpoint records of all its jobs: the caller removes the files.
+  Result<SweepDeletion> DeleteSweep(const std::string& id);
   // Applies the policy as of now_ms, in one transaction (job_store_retention.cc); each job that
   // keeps its record but loses checkpoints gets a CHECKPOINTS_RETAINED event.
   Result<RetentionOutcome> ApplyRetention(const RetentionPolicy& policy, std::int64_t now_ms);
@@ -202,6 +215,10 @@ class JobStore {
   std::filesystem::path ResolvedCheckpointPath(const std::string& stored) const;
   Status Migrate();
   Result<JobRecord> GetLocked(const std::string& id, bool with_scene);
+  // Insert and Delete inside the caller's transaction (InsertSweep and DeleteSweep use them).
+  Result<InsertOutcome> InsertLocked(const JobRecord& job);
+  Result<std::vector<CheckpointRecord>> DeleteLocked(const std::string& id);
+  Result<SweepRecord> GetSweepLocked(const std::string& id);
   Status ReadLabelsLocked(std::vector<JobRecord>& jobs);
   Status ReadResultSeriesLocked(JobRecord& job);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);

@@ -28,6 +28,12 @@ Result<std::vector<CheckpointRecord>> JobStore::Delete(const std::string& id) {
   const StoreOperation operation("delete job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_ASSIGN_OR_RETURN(std::vector<CheckpointRecord> removed, DeleteLocked(id));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return removed;
+}
+
+Result<std::vector<CheckpointRecord>> JobStore::DeleteLocked(const std::string& id) {
   SEEP_ASSIGN_OR_RETURN(const JobRecord job, GetLocked(id, /*with_scene=*/false));
   if (!IsTerminal(job.state)) {
     return core::FailedPrecondition(fmt::format(
@@ -51,7 +57,6 @@ Result<std::vector<CheckpointRecord>> JobStore::Delete(const std::string& id) {
   SEEP_ASSIGN_OR_RETURN(Stmt gone, db_->Prepare("DELETE FROM jobs WHERE id = ?"));
   gone.Bind(1, std::string_view(id));
   SEEP_RETURN_IF_ERROR(gone.Run());
-  SEEP_RETURN_IF_ERROR(tx.Commit());
   return removed;
 }
 

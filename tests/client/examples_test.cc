@@ -1,6 +1,7 @@
 // Every file in examples/ runs on a real seepd and SUCCEEDS: scenes through `seep submit`, the
-// calibration file through `seep calibrate`. The examples are the documentation users copy from,
-// so a field renamed in the proto or a value the server rejects breaks this test first.
+// calibration file through `seep calibrate`, the sweep through `seep sweep submit`. The examples
+// are the documentation users copy from, so a field renamed in the proto or a value the server
+// rejects breaks this test first.
 #include <algorithm>
 
 #include "seepd_fixture.h"
@@ -22,6 +23,16 @@ TEST_F(ClientExamples, EveryExampleSucceedsOnARealSeepd) {
     SCOPED_TRACE(file.filename().string());
     std::ifstream in(file);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.find("\naxes {") != std::string::npos) {
+      // A sweep: every job SUCCEEDED, on its one progress line.
+      const CommandResult run = Seep({"sweep", "submit", file.string(), "--watch"});
+      EXPECT_EQ(run.exit_code, 0) << run.output;
+      EXPECT_TRUE(std::regex_search(
+          run.output,
+          std::regex("SUCCEEDED +100.0%  sweep s-[0-9a-f]{16} .* 0 failed, 0 cancelled")))
+          << run.output;
+      continue;
+    }
     const bool calibration = text.find("target_permeabilities_m2") != std::string::npos;
     const CommandResult run =
         Seep({calibration ? "calibrate" : "submit", file.string(), "--watch"});

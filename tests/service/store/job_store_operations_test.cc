@@ -103,7 +103,8 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
       "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
       "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
       "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);"
-      "DROP TABLE job_labels; DROP INDEX jobs_by_finished; PRAGMA user_version = 6;");
+      "DROP TABLE sweep_jobs; DROP TABLE sweeps; DROP TABLE job_labels; DROP INDEX "
+      "jobs_by_finished; PRAGMA user_version = 6;");
   auto reopened = JobStore::Open(path_);
   ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
   store_ = std::move(*reopened);
