@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "seep/core/coupling/contact_point.h"
 
 namespace seep::core {
@@ -35,6 +37,36 @@ void LoopCentroid(const ParticleView& p, std::span<const std::int32_t> loop, dou
   }
 }
 
+// The point of drained wall `node`'s wall nearest the centroid (cx, cy) of `pore`, with the wall
+// where it is now: its line through one of the pore's vertices on it (their positions move with
+// the wall), along the normal of the detection (walls translate, never turn).
+Status DrainedWallPoint(const SceneNetwork& net, const ParticleView& positions, std::int32_t pore,
+                        std::int32_t node, double cx, double cy, double* px, double* py) {
+  const auto it = std::find(net.wall_node.begin(), net.wall_node.end(), node);
+  if (it == net.wall_node.end()) {
+    return Internal(fmt::format("network.fluid_weight: drained pipe to node {}, no wall's", node));
+  }
+  const auto w = static_cast<std::int32_t>(it - net.wall_node.begin());
+  const DomainNetwork& d = net.domains;
+  const auto begin = static_cast<std::size_t>(d.loop_offsets[static_cast<std::size_t>(pore)]);
+  const auto end = static_cast<std::size_t>(d.loop_offsets[static_cast<std::size_t>(pore) + 1]);
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::int32_t v = d.loop_particles[k];
+    if (!d.walls.IsWallVertex(v)) continue;
+    const auto slot = static_cast<std::size_t>(v - d.walls.num_particles);
+    if (d.walls.vertex_wall[slot] != w && d.walls.vertex_other_wall[slot] != w) continue;
+    const WallLine& line = net.walls[static_cast<std::size_t>(w)];
+    const double vx = positions.x[static_cast<std::size_t>(v)];
+    const double vy = positions.y[static_cast<std::size_t>(v)];
+    const double distance = (cx - vx) * line.nx + (cy - vy) * line.ny;
+    *px = cx - distance * line.nx;
+    *py = cy - distance * line.ny;
+    return Status::Ok();
+  }
+  return Internal(fmt::format(
+      "network.fluid_weight: domain {} drains into wall {} but has no vertex on it", pore, w));
+}
+
 }  // namespace
 
 std::optional<FluidWeight> SceneFluidWeight(const SceneSpec& scene) {
@@ -56,29 +88,40 @@ Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& p
         domains, net.pipe_contact.size(), flow.num_pipes()));
   }
   out->assign(nodes, 0.0);
+  std::vector<double> centroid_x(domains), centroid_y(domains);
   for (std::size_t k = 0; k < domains; ++k) {
     const auto begin = static_cast<std::size_t>(d.loop_offsets[k]);
     const auto end = static_cast<std::size_t>(d.loop_offsets[k + 1]);
-    double cx = 0.0, cy = 0.0;
-    LoopCentroid(positions, std::span(d.loop_particles).subspan(begin, end - begin), &cx, &cy);
-    (*out)[k] = weight.x * cx + weight.y * cy;
+    LoopCentroid(positions, std::span(d.loop_particles).subspan(begin, end - begin), &centroid_x[k],
+                 &centroid_y[k]);
+    (*out)[k] = weight.x * centroid_x[k] + weight.y * centroid_y[k];
   }
   if (nodes == domains) return Status::Ok();
-  // Reservoirs: the mean contact point of their pipes.
+  // Reservoirs: the mean contact point of their pipes; for a drained wall, the point of the
+  // wall (where it is now) nearest the centroid of each pore it drains.
   std::vector<double> sum_x(nodes - domains, 0.0), sum_y(nodes - domains, 0.0);
   std::vector<double> count(nodes - domains, 0.0);
   const auto a = flow.pipe_domain_a();
   const auto b = flow.pipe_domain_b();
   for (std::size_t p = 0; p < flow.num_pipes(); ++p) {
     const std::int32_t contact = net.pipe_contact[p];
-    // Pipes through or along walls join domains (a drained wall's node keeps weight 0 here).
-    if (contact < 0 || d.walls.IsWallEdge(contact)) continue;
-    const auto c = static_cast<std::size_t>(contact);
-    const std::int32_t i = net.contacts.i[c];
-    const std::int32_t j = net.contacts.j[c];
-    const ContactArms arms = ComputeContactArms(positions, i, j);
-    const double px = positions.x[static_cast<std::size_t>(i)] + arms.ax;
-    const double py = positions.y[static_cast<std::size_t>(i)] + arms.ay;
+    if (contact >= 0 && d.walls.IsWallEdge(contact)) continue;  // joins two domains
+    double px = 0.0, py = 0.0;
+    if (contact < 0) {
+      const bool a_is_domain = static_cast<std::size_t>(a[p]) < domains;
+      const std::int32_t pore = a_is_domain ? a[p] : b[p];
+      const std::int32_t node = a_is_domain ? b[p] : a[p];
+      SEEP_RETURN_IF_ERROR(DrainedWallPoint(net, positions, pore, node,
+                                            centroid_x[static_cast<std::size_t>(pore)],
+                                            centroid_y[static_cast<std::size_t>(pore)], &px, &py));
+    } else {
+      const auto c = static_cast<std::size_t>(contact);
+      const std::int32_t i = net.contacts.i[c];
+      const std::int32_t j = net.contacts.j[c];
+      const ContactArms arms = ComputeContactArms(positions, i, j);
+      px = positions.x[static_cast<std::size_t>(i)] + arms.ax;
+      py = positions.y[static_cast<std::size_t>(i)] + arms.ay;
+    }
     for (const std::int32_t node : {a[p], b[p]}) {
       if (static_cast<std::size_t>(node) < domains) continue;
       const std::size_t r = static_cast<std::size_t>(node) - domains;

@@ -343,5 +343,45 @@ TEST(Verification, FluidWeightInputIsValidated) {
             0u);
 }
 
+// A drained platen's head: the platen's reservoir holds its pressure at the platen, so its weight
+// pressure is w.x at the wall (network/fluid_weight.h), not 0. A box of walls whose top is a
+// platen drained at 12 kPa, started hydrostatic about the platen's height, is at rest: nothing
+// flows through the platen (with the platen's weight taken as 0, the brine column's weight would
+// drive its pipes at rho g h_platen, of order the scale).
+TEST(Verification, DrainedPlatenHoldsTheColumnAtRest) {
+  SceneSpec scene = effects_test::BoxedLatticeScene(8, 14);
+  scene.fluid.density_kg_m3 = kFluidDensity;
+  auto* walls = std::get_if<WallsEffectSpec>(&scene.effects[1]);
+  ASSERT_NE(walls, nullptr);
+  walls->walls = {SideWall(WallSide::kBottom), SideWall(WallSide::kLeft),
+                  SideWall(WallSide::kRight),
+                  Drained(SideWall(WallSide::kTop), 1.2e4, effects_test::kPlatenConductance)};
+  for (EffectSpec& e : scene.effects) {
+    if (auto* g = std::get_if<GravityEffectSpec>(&e)) *g = GravityEffectSpec{0.0, kGravity};
+  }
+  const double platen_y = MustCreate(scene).stepper().state().walls[3].py;
+  scene.boundary.initial_pressure_pa = 1.2e4;
+  scene.boundary.initial_pressure_hydrostatic = true;
+  scene.boundary.initial_pressure_x_m = 0.0;
+  scene.boundary.initial_pressure_y_m = platen_y;
+  Simulation sim = MustCreate(scene);
+  const SceneNetwork& net = sim.network();
+  ASSERT_EQ(net.wall_node.size(), 4u);
+  const std::int32_t platen = net.wall_node[3];
+  ASSERT_GE(platen, 0);
+  double conductance = 0.0;
+  const auto a = net.flow.pipe_domain_a();
+  const auto b = net.flow.pipe_domain_b();
+  for (std::size_t p = 0; p < net.flow.num_pipes(); ++p) {
+    if (a[p] == platen || b[p] == platen) conductance += net.flow.pipe_conductance()[p];
+  }
+  ASSERT_GT(conductance, 0.0);
+  const double column = -kFluidDensity * kGravity * platen_y;  // the weight of the whole height
+  const double q = NodeInflow(ComputeBoundaryFluxes(net.flow), platen);
+  std::printf("drained platen at y = %.6g m: flow %.3g m^2/s against a scale of %.3g\n", platen_y,
+              q, conductance * column);
+  EXPECT_LT(std::abs(q), 1e-9 * conductance * column);
+}
+
 }  // namespace
 }  // namespace seep::core
