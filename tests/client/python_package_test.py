@@ -10,7 +10,9 @@ Exit code 0 = passed, 1 = failed, 77 = skipped (only when python3-grpcio or pyth
 missing).
 """
 import argparse
+import contextlib
 import csv
+import io
 import json
 import math
 import os
@@ -160,8 +162,7 @@ class PackageTest(unittest.TestCase):
         self.assertEqual(run.returncode, 3, run.stderr)
         self.assertTrue(run.stderr.strip().endswith(": " + error.details), run.stderr)
         # Nothing was queued by either.
-        self.assertEqual(len(self.client._stub.ListJobs(
-            seep.v1.job_service_pb2.ListJobsRequest(), timeout=10).jobs), 0)
+        self.assertEqual(json.loads(self.cli("list", "--json")).get("jobs", []), [])
 
         # Text that does not parse: a ValueError with the line, before any call.
         with self.assertRaisesRegex(ValueError, r"^scene text:2:"):
@@ -200,9 +201,21 @@ class PackageTest(unittest.TestCase):
         hashes = {}
         for form, scene in forms.items():
             job = self.client.submit(scene, name="from-" + form)
-            self.assertEqual(self.client.wait(job, progress=False).name, "from-" + form)
+            bar = io.StringIO()  # the progress bar (tqdm's or the plain line) writes to stderr
+            with contextlib.redirect_stderr(bar):
+                self.assertEqual(self.client.wait(job).name, "from-" + form)
+            self.assertIn("job " + job, bar.getvalue())
+            self.assertIn("SUCCEEDED", bar.getvalue())
             hashes[form] = self.client.result(job).state_sha256
         self.assertEqual(len(set(hashes.values())), 1, hashes)
+        # The plain line used without tqdm, into a log (not a terminal): the first and last lines.
+        log = io.StringIO()
+        with contextlib.redirect_stderr(log):
+            line = seep.progress.StderrLine("job j-1")
+            for fraction in (0.0, 0.5, 1.0):
+                line.update(fraction, "RUNNING")
+            line.close()
+        self.assertEqual(log.getvalue(), "job j-1   0.0%  RUNNING\njob j-1 100.0%  RUNNING\n")
         self.assertEqual(len(hashes["path"]), 64)
 
         # A JSON file, the way the CLI reads .json.
