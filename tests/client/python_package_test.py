@@ -262,6 +262,36 @@ class PackageTest(unittest.TestCase):
         self.assertEqual(list(frame.columns), list(rows[0]))
         self.assertEqual(frame.to_dict("records"), rows)
 
+    def test_CancelResumeDeleteJobsAndSweeps(self):
+        job = self.run_example(EXAMPLES[0])
+        for refused in (self.client.cancel, self.client.resume):
+            with self.assertRaisesRegex(seep.FailedPrecondition, job):
+                refused(job)  # a SUCCEEDED job is neither cancelled nor resumed
+        self.client.delete(job)
+        with self.assertRaises(seep.NotFound):
+            self.client.job(job)
+
+        # A sweep queued behind a job of 300 x 300 disks (half a second on the one worker, far
+        # longer than the calls below): all six of its jobs are cancelled while QUEUED.
+        with open(os.path.join(ARGS.examples, EXAMPLES[0])) as f:
+            big = f.read().replace("columns: 60 rows: 40", "columns: 300 rows: 300")
+        long_job = self.client.submit(big, priority=1000)
+        sweep = self.client.submit_sweep(os.path.join(ARGS.examples, "sweep_darcy.textproto"),
+                                         priority=-1000)
+        self.assertEqual(self.client.cancel_sweep(sweep).counts.cancelled, 6)
+        # Queued: cancelled at once; running: asked to stop (a steady solve may still finish).
+        cancelled = self.client.cancel(long_job)
+        self.assertTrue(cancelled.cancel_requested or
+                        cancelled.state == seep.v1.job_service_pb2.JOB_STATE_CANCELLED, cancelled)
+        self.client.wait(long_job, progress=False, check=False)
+        self.assertEqual(self.client.resume_sweep(sweep).id, sweep)
+        self.assertEqual(self.client.wait_sweep(sweep, timeout=150, progress=False)
+                         .counts.succeeded, 6)
+        self.client.delete_sweep(sweep)
+        with self.assertRaises(seep.NotFound):
+            self.client.sweep(sweep)
+        self.assertEqual(self.client.job(long_job).id, long_job)  # not a job of the sweep
+
 
 def main():
     global ARGS

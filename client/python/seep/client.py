@@ -63,18 +63,25 @@ class Client:
         except grpc.RpcError as error:
             raise errors.from_rpc_error(error, what, self.server) from None
 
+    def _queue(self, method, request, submitted, name, request_id, priority, labels, what):
+        """SubmitJob or SubmitSweep: the options both take, set on the request; `submitted` is
+        the request's scene or sweep (a copy of the caller's), which `name` renames."""
+        if name is not None:
+            submitted.name = name
+        request.request_id = request_id or _new_request_id()
+        request.priority = priority
+        request.labels.update(labels or {})
+        return self._call(method, request, what)
+
     # Jobs.
 
     def submit(self, scene, *, name=None, request_id=None, priority=0, labels=None):
         """Queues a scene (a seep.v1.Scene, a dict, text-format or JSON text, or a .textproto /
         .json file path) and returns the job id. A scene the server rejects raises
         InvalidArgument whose message names the field."""
-        request = pb.SubmitJobRequest(scene=messages.to_message(scene, scene_pb2.Scene, "scene"),
-                                      request_id=request_id or _new_request_id(),
-                                      priority=priority, labels=labels or {})
-        if name is not None:
-            request.scene.name = name
-        return self._call("SubmitJob", request, "submit").job.id
+        request = pb.SubmitJobRequest(scene=messages.to_message(scene, scene_pb2.Scene, "scene"))
+        return self._queue("SubmitJob", request, request.scene, name, request_id, priority,
+                           labels, "submit").job.id
 
     def job(self, job_id):
         """The seep.v1.Job as it is now (state, progress, error, ...)."""
@@ -131,12 +138,16 @@ class Client:
         return arrays.fields_from_proto(response)
 
     def cancel(self, job_id):
+        """A QUEUED job is cancelled at once, a RUNNING one at its next step (the returned Job
+        may still be RUNNING with cancel_requested); a finished one raises FailedPrecondition."""
         return self._call("CancelJob", pb.CancelJobRequest(id=job_id), "cancel").job
 
     def resume(self, job_id):
+        """A FAILED or CANCELLED job queued again from its newest checkpoint; returns the Job."""
         return self._call("ResumeJob", pb.ResumeJobRequest(id=job_id), "resume").job
 
     def delete(self, job_id):
+        """Removes a finished job with its result and checkpoint files."""
         self._call("DeleteJob", pb.DeleteJobRequest(id=job_id), "delete")
 
     # Sweeps.
@@ -144,12 +155,9 @@ class Client:
     def submit_sweep(self, sweep, *, name=None, request_id=None, priority=0, labels=None):
         """Queues a seep.v1.Sweep (message, dict, text, JSON or file path, as submit) and returns
         the sweep id. A bad axis path or value raises InvalidArgument naming it."""
-        request = pb.SubmitSweepRequest(sweep=messages.to_message(sweep, sweep_pb2.Sweep, "sweep"),
-                                        request_id=request_id or _new_request_id(),
-                                        priority=priority, labels=labels or {})
-        if name is not None:
-            request.sweep.name = name
-        return self._call("SubmitSweep", request, "sweep submit").sweep.id
+        request = pb.SubmitSweepRequest(sweep=messages.to_message(sweep, sweep_pb2.Sweep, "sweep"))
+        return self._queue("SubmitSweep", request, request.sweep, name, request_id, priority,
+                           labels, "sweep submit").sweep.id
 
     def sweep(self, sweep_id):
         """The seep.v1.SweepStatus: every job's state, progress and metrics."""
@@ -183,10 +191,13 @@ class Client:
         return sweeps.as_table(sweeps.sweep_rows(status, names), columns, pandas)
 
     def cancel_sweep(self, sweep_id):
+        """cancel() on every QUEUED or RUNNING job of the sweep; returns the SweepStatus."""
         return self._call("CancelSweep", pb.CancelSweepRequest(id=sweep_id), "sweep cancel").sweep
 
     def resume_sweep(self, sweep_id):
+        """resume() on every FAILED or CANCELLED job of the sweep; returns the SweepStatus."""
         return self._call("ResumeSweep", pb.ResumeSweepRequest(id=sweep_id), "sweep resume").sweep
 
     def delete_sweep(self, sweep_id):
+        """Removes a finished sweep with all its jobs."""
         self._call("DeleteSweep", pb.DeleteSweepRequest(id=sweep_id), "sweep delete")
