@@ -17,6 +17,7 @@ import json
 import math
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 import unittest
@@ -189,6 +190,54 @@ class PackageTest(unittest.TestCase):
         open(empty, "w").close()
         with self.assertRaisesRegex(ValueError, "token_file .*empty-token: is empty"):
             seep.Client(self.seepd.address, token_file=empty)
+
+    def test_TokenAndTlsAsTheCli(self):
+        folder = ARGS.work_dir + "-secure"
+        os.makedirs(folder, exist_ok=True)
+        self.addCleanup(shutil.rmtree, folder, True)  # last: after seepd has stopped
+        cert, key = os.path.join(folder, "cert.pem"), os.path.join(folder, "key.pem")
+        subprocess.run(["/usr/bin/openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes",
+                        "-days", "1", "-subj", "/CN=localhost", "-addext",
+                        "subjectAltName=DNS:localhost,IP:127.0.0.1", "-keyout", key, "-out",
+                        cert], check=True, capture_output=True)
+        token_file = os.path.join(folder, "token")
+        with open(os.open(token_file, os.O_WRONLY | os.O_CREAT, 0o600), "w") as f:
+            f.write("s3cret-token\n")
+        secure = Seepd(ARGS.seepd, os.path.join(folder, "seepd"),
+                       ["--tls-cert", cert, "--tls-key", key, "--token-file", token_file])
+        self.addCleanup(secure.stop)
+
+        scene = os.path.join(ARGS.examples, EXAMPLES[0])
+        with seep.Client(secure.address, tls_ca=cert, token_file=token_file) as client:
+            job = client.submit(scene)
+            self.assertEqual(client.wait(job, progress=False).id, job)
+            self.assertEqual(len(client.result(job).state_sha256), 64)
+        with seep.Client(secure.address, tls_ca=cert, token="s3cret-token") as client:
+            self.assertEqual(client.job(job).id, job)
+        previous = os.environ.get("SEEP_TOKEN")
+        os.environ["SEEP_TOKEN"] = "s3cret-token"
+        try:
+            with seep.Client(secure.address, tls_ca=cert) as client:
+                self.assertEqual(client.job(job).id, job)  # the token from SEEP_TOKEN
+        finally:
+            os.environ.pop("SEEP_TOKEN")
+            if previous is not None:
+                os.environ["SEEP_TOKEN"] = previous
+        with seep.Client(secure.address, tls_ca=cert, token="") as client:
+            with self.assertRaises(seep.Unauthenticated):
+                client.job(job)
+        with seep.Client(secure.address, tls_ca=cert, token="wrong") as client:
+            with self.assertRaises(seep.Unauthenticated):
+                client.job(job)
+        # Plaintext to a TLS server, or TLS that does not trust its certificate: no handshake.
+        for options in ({}, {"tls": True}):
+            with seep.Client(secure.address, token="s3cret-token", timeout=3, **options) as client:
+                with self.assertRaises((seep.Unavailable, TimeoutError)):
+                    client.job(job)
+        with self.assertRaisesRegex(ValueError, "tls_ca .*token: is not a PEM certificate"):
+            seep.Client(secure.address, tls_ca=token_file)
+        with self.assertRaisesRegex(ValueError, "token: only visible ASCII"):
+            seep.Client(secure.address, token="two words")
 
     def test_ScenesFromTextJsonDictAndFile(self):
         path = os.path.join(ARGS.examples, EXAMPLES[0])

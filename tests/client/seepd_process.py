@@ -12,7 +12,7 @@ class SeepdError(Exception):
 
 
 class Seepd:
-    def __init__(self, seepd, work_dir):
+    def __init__(self, seepd, work_dir, extra_args=()):
         self.work_dir = work_dir
         shutil.rmtree(work_dir, ignore_errors=True)
         os.makedirs(work_dir)
@@ -21,7 +21,7 @@ class Seepd:
         with open(self._log_path, "w") as log:
             self._process = subprocess.Popen(
                 [seepd, "--listen", "127.0.0.1:0", "--data-dir", os.path.join(work_dir, "data"),
-                 "--port-file", port_file],
+                 "--port-file", port_file] + list(extra_args),
                 stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
         self.port = self._wait_for_port(port_file)
         self.address = "127.0.0.1:%d" % self.port

@@ -12,7 +12,7 @@ when they are installed."""
 from .arrays import Fields, Result, structured
 from .client import Client
 from .errors import (FailedPrecondition, InvalidArgument, JobFailed, NotFound, SeepError,
-                     Unavailable)
+                     Unauthenticated, Unavailable)
 
 __all__ = ["Client", "Fields", "Result", "structured", "SeepError", "InvalidArgument", "NotFound",
-           "FailedPrecondition", "Unavailable", "JobFailed"]
+           "FailedPrecondition", "Unauthenticated", "Unavailable", "JobFailed"]

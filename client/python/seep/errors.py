@@ -29,6 +29,10 @@ class FailedPrecondition(SeepError):
     has not SUCCEEDED)."""
 
 
+class Unauthenticated(SeepError, PermissionError):
+    """seepd wants a bearer token (token=, token_file= or SEEP_TOKEN) and got none or another."""
+
+
 class Unavailable(SeepError, ConnectionError):
     """seepd cannot be reached (or a TLS mismatch, which gRPC reports the same way)."""
 
@@ -47,6 +51,7 @@ _BY_CODE = {
     grpc.StatusCode.NOT_FOUND: NotFound,
     grpc.StatusCode.FAILED_PRECONDITION: FailedPrecondition,
     grpc.StatusCode.UNAVAILABLE: Unavailable,
+    grpc.StatusCode.UNAUTHENTICATED: Unauthenticated,
 }
 
 
