@@ -327,7 +327,13 @@ class PackageTest(unittest.TestCase):
         long_job = self.client.submit(big, priority=1000)
         sweep = self.client.submit_sweep(os.path.join(ARGS.examples, "sweep_darcy.textproto"),
                                          priority=-1000)
-        self.assertEqual(self.client.cancel_sweep(sweep).counts.cancelled, 6)
+        status = self.client.cancel_sweep(sweep)
+        self.assertEqual(status.counts.cancelled, 6)
+        with self.assertRaisesRegex(seep.JobFailed, "ended CANCELLED") as raised:
+            self.client.wait(status.jobs[0].job.id, progress=False)
+        self.assertEqual(raised.exception.job.state, seep.v1.job_service_pb2.JOB_STATE_CANCELLED)
+        with self.assertRaisesRegex(TimeoutError, "job %s: not finished after 0.05 s" % long_job):
+            self.client.wait(long_job, timeout=0.05, progress=False)
         # Queued: cancelled at once; running: asked to stop (a steady solve may still finish).
         cancelled = self.client.cancel(long_job)
         self.assertTrue(cancelled.cancel_requested or

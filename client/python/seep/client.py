@@ -97,17 +97,20 @@ class Client:
             job = self.job(job_id)
             while job.state not in TERMINAL:
                 try:
-                    # The stream ends at a terminal state; a server that restarts ends it early,
-                    # and the loop watches again.
+                    # The stream ends at a terminal state; should it end before (a server shutting
+                    # down), the loop watches again.
                     for event in self._stub.WatchJob(pb.WatchJobRequest(id=job_id),
                                                      timeout=_remaining(deadline),
                                                      metadata=self._metadata):
                         job = event.job
                         bar.update(job.progress.fraction_done, _job_status(job))
                 except grpc.RpcError as error:
+                    if error.code() == grpc.StatusCode.DEADLINE_EXCEEDED:
+                        raise TimeoutError("job %s: not finished after %g s (%s)" %
+                                           (job_id, timeout, _job_status(job))) from None
                     raise errors.from_rpc_error(error, "wait", self.server) from None
                 if job.state not in TERMINAL:
-                    time.sleep(0.1)  # not too eager while the server restarts
+                    time.sleep(0.1)
             bar.update(1.0 if job.state == pb.JOB_STATE_SUCCEEDED else job.progress.fraction_done,
                        _job_status(job))
         finally:
