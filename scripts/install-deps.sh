@@ -11,6 +11,8 @@ packages=(
   libcpp-httplib-dev  # seepd --metrics-listen: the Prometheus endpoint (and its test's client)
   python3-vtk9  # tests: exported .vtu/.vtp files load in VTK's own readers
   python3-grpcio python3-protobuf  # tests: a Python gRPC client (stubs made by protoc) drives seepd
+  python3-numpy  # the Python package (client/python): results, series and fields as arrays
+  python3-pandas python3-tqdm  # optional for the package (DataFrames, progress bar); CI tests them
 )
 
 sudo_cmd=()
