@@ -1,6 +1,7 @@
 // Finite segment walls: a disk resting on a tilted segment under gravity carries m g cos(theta)
 // normal to it; a disk beyond a segment's end falls past it in free fall; an end touches like a
-// disk of radius 0 and the back face like the front; bad extents are named.
+// disk of radius 0 and the back face like the front; a servo segment holds its stress on its
+// length; bad extents are named.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,12 +9,14 @@
 #include <vector>
 
 #include "dem_test_util.h"
+#include "seep/core/dem/servo_wall.h"
 
 namespace seep::core {
 namespace {
 
 using dem_test::MakeContacts;
 using dem_test::MakeDisks;
+using dem_test::RunWithServo;
 
 constexpr double kG = 9.81;
 constexpr double kKn = 1.0e7;
@@ -131,6 +134,34 @@ TEST(DemSegmentWall, EndsTouchLikeAPointAndTheBackFaceLikeTheFront) {
   EXPECT_EQ(contacts.wall_loads()[0].contact_count, 2);
   EXPECT_NEAR(contacts.wall_loads()[0].normal_force, end_force / std::sqrt(2.0) - back_force,
               1e-9 * back_force);
+}
+
+// A servo lid that is a segment of length 2 over a stack of three disks on a line floor (no
+// gravity) holds its target stress on that length: the lid and the floor both carry
+// target x length = 1000 N/m at rest.
+TEST(DemSegmentWall, ServoSegmentHoldsItsStressOnItsLength) {
+  DemParticles p = MakeDisks({{0.0, 0.5, 0.5}, {0.0, 1.5, 0.5}, {0.0, 2.5, 0.5}}, 1.0);
+  DemContactSettings settings = Settings(0.05);
+  settings.law.kn = 1.0e5;
+  settings.law.kt = 2.0e4;
+  DemContactForces contacts = MakeContacts(settings);
+  DemWallExtent lid_extent;
+  Result<DemWall> lid = MakeSegmentWall(1.0, 3.02, -1.0, 3.02, &lid_extent);  // normal down
+  ASSERT_TRUE(lid.ok());
+  std::vector<DemWall> walls{*MakeWall(0.0, 0.0, 0.0, 1.0), *lid};
+  ASSERT_TRUE(contacts.SetWallExtents({DemWallExtent{}, lid_extent}).ok());
+  ServoWallSettings servo;
+  servo.target_stress = 500.0;
+  servo.length = lid_extent.hi - lid_extent.lo;
+  servo.gain_fraction = 0.3;
+  servo.max_speed = 1.0;
+  DemCounters counters;
+  RunWithServo(&p, &walls, &contacts, servo, 1, 1.0e-5, 60000, &counters);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_EQ(servo.length, 2.0);
+  EXPECT_NEAR(contacts.wall_loads()[1].normal_force, 1000.0, 1e-4 * 1000.0);
+  EXPECT_NEAR(contacts.wall_loads()[0].normal_force, 1000.0, 1e-4 * 1000.0);
+  EXPECT_EQ(contacts.wall_loads()[1].contact_count, 1);
 }
 
 TEST(DemSegmentWall, BadExtentsAreNamed) {
