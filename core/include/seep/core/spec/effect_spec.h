@@ -96,14 +96,15 @@ struct WallSegmentSpec {
 // servo holds the total stress (contacts + pore pressure) unless servo_effective_stress asks for
 // the contacts' stress alone.
 struct WallSpec {
-  WallSide side = WallSide::kBottom;          // ignored when `segment` is set
-  std::optional<WallSegmentSpec> segment;     // set: the wall is this segment
-  std::optional<double> normal_velocity_m_s;  // set: velocity-controlled (not with a servo)
-  double servo_stress_pa = 0.0;               // 0 = fixed wall
+  WallSide side = WallSide::kBottom;  // ignored when `segment` is set
+  double servo_stress_pa = 0.0;       // 0 = fixed wall
   double servo_gain_fraction = 0.5;
   double servo_max_speed_m_s = 0.0;    // > 0 for a servo wall
   std::optional<WallDrainSpec> drain;  // unset: impermeable
   bool servo_effective_stress = false;
+  // (Last, so that code listing the fields above in order still means the same wall.)
+  std::optional<WallSegmentSpec> segment;     // set: the wall is this segment
+  std::optional<double> normal_velocity_m_s;  // set: velocity-controlled (not with a servo)
 };
 
 // A fixed wall on `side`, or a servo wall when servo_stress_pa > 0; impermeable, servo on the
