@@ -91,8 +91,15 @@ void AddWallSegments(const core::Simulation& sim, v1::JobFields* out) {
   const std::vector<WallLine> lines =
       dem_walls.empty() ? sim.network().walls : core::WallLines(dem_walls);
   const Box box = DrawingBox(sim.particles());
+  const auto& contacts = sim.stepper().state().contacts;
   for (std::size_t w = 0; w < lines.size(); ++w) {
-    const auto [s0, s1] = SegmentParameters(lines, w, box);
+    // A segment wall is drawn as itself, a line clipped to the drawing.
+    const bool segment = !dem_walls.empty() && contacts.has_value() &&
+                         w < contacts->wall_extents().size() &&
+                         contacts->wall_extents()[w].finite();
+    const auto [s0, s1] =
+        segment ? std::pair{contacts->wall_extents()[w].lo, contacts->wall_extents()[w].hi}
+                : SegmentParameters(lines, w, box);
     const WallLine& line = lines[w];
     out->add_wall_x0_m(line.px + s0 * line.ny);
     out->add_wall_y0_m(line.py - s0 * line.nx);

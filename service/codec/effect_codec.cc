@@ -2,6 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <iterator>
+#include <optional>
+#include <utility>
+
 namespace seep::service {
 namespace {
 
@@ -36,29 +41,63 @@ Result<core::ContactsEffectSpec> ContactsFromProto(const v1::ContactsEffect& c,
   return spec;
 }
 
+// The end points of a wall given by them (all four set, side unset), or nullopt for a side wall.
+Result<std::optional<core::WallSegmentSpec>> SegmentFromProto(const v1::Wall& wall,
+                                                              const std::string& path) {
+  const std::pair<const char*, bool> given[] = {{"x0_m", wall.has_x0_m()},
+                                                {"y0_m", wall.has_y0_m()},
+                                                {"x1_m", wall.has_x1_m()},
+                                                {"y1_m", wall.has_y1_m()}};
+  const auto count =
+      std::count_if(std::begin(given), std::end(given), [](const auto& g) { return g.second; });
+  if (count == 0) return std::optional<core::WallSegmentSpec>();
+  for (const auto& [name, set] : given) {
+    if (!set) {
+      return InvalidArgument(fmt::format(
+          "{}.{}: a wall given by its end points needs all four of x0_m, y0_m, x1_m, y1_m", path,
+          name));
+    }
+  }
+  if (wall.side() != v1::WALL_SIDE_UNSPECIFIED) {
+    return InvalidArgument(fmt::format(
+        "{}.side: a wall is given by its side or by its end points, not both (got {} and "
+        "x0_m..y1_m)",
+        path, v1::WallSide_Name(wall.side())));
+  }
+  return std::optional<core::WallSegmentSpec>(
+      core::WallSegmentSpec{wall.x0_m(), wall.y0_m(), wall.x1_m(), wall.y1_m()});
+}
+
 Result<core::WallsEffectSpec> WallsFromProto(const v1::WallsEffect& w, const std::string& path) {
   core::WallsEffectSpec spec;
   for (int k = 0; k < w.walls_size(); ++k) {
     const v1::Wall& wall = w.walls(k);
     core::WallSpec out;
-    switch (wall.side()) {
-      case v1::WALL_SIDE_LEFT:
-        out.side = core::WallSide::kLeft;
-        break;
-      case v1::WALL_SIDE_RIGHT:
-        out.side = core::WallSide::kRight;
-        break;
-      case v1::WALL_SIDE_BOTTOM:
-        out.side = core::WallSide::kBottom;
-        break;
-      case v1::WALL_SIDE_TOP:
-        out.side = core::WallSide::kTop;
-        break;
-      default:
-        return InvalidArgument(fmt::format(
-            "{}.walls[{}].side: must be WALL_SIDE_LEFT, WALL_SIDE_RIGHT, WALL_SIDE_BOTTOM or "
-            "WALL_SIDE_TOP (got {})",
-            path, k, v1::WallSide_Name(wall.side())));
+    SEEP_ASSIGN_OR_RETURN(out.segment,
+                          SegmentFromProto(wall, fmt::format("{}.walls[{}]", path, k)));
+    if (wall.has_normal_velocity_m_s()) out.normal_velocity_m_s = wall.normal_velocity_m_s();
+    // A segment wall has no side (SegmentFromProto checked it is unset).
+    if (!out.segment) {
+      switch (wall.side()) {
+        case v1::WALL_SIDE_LEFT:
+          out.side = core::WallSide::kLeft;
+          break;
+        case v1::WALL_SIDE_RIGHT:
+          out.side = core::WallSide::kRight;
+          break;
+        case v1::WALL_SIDE_BOTTOM:
+          out.side = core::WallSide::kBottom;
+          break;
+        case v1::WALL_SIDE_TOP:
+          out.side = core::WallSide::kTop;
+          break;
+        default:
+          return InvalidArgument(fmt::format(
+              "{}.walls[{}].side: must be WALL_SIDE_LEFT, WALL_SIDE_RIGHT, WALL_SIDE_BOTTOM or "
+              "WALL_SIDE_TOP, or leave it unset and give the end points x0_m, y0_m, x1_m, y1_m "
+              "(got {})",
+              path, k, v1::WallSide_Name(wall.side())));
+      }
     }
     out.servo_stress_pa = wall.servo_stress_pa();
     out.servo_gain_fraction = wall.servo_gain_fraction() == 0.0 ? 0.5 : wall.servo_gain_fraction();

@@ -61,5 +61,17 @@ TEST_F(ClientExamples, Transient1dOutflowFollowsTheDiffusionSeries) {
   EXPECT_NEAR(ratio, 0.72292, 0.005 * 0.72292) << "outflow " << metrics["outflow_m2_per_s"];
 }
 
+// The funnel's lid is velocity-controlled: it has moved v t along its normal, to rounding.
+TEST_F(ClientExamples, SegmentFunnelLidMovesVT) {
+  const CommandResult run = Seep({"submit", Example("segment_funnel.textproto"), "--watch"});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto job = Json({"show", JobIdFrom(run.output)});
+  const auto& metrics = job["result"]["metrics"];
+  const double t = metrics["simulated_time_s"].get<double>();
+  EXPECT_NEAR(t, 0.1, 1e-4);
+  EXPECT_NEAR(metrics["segment2_wall_position_m"].get<double>(), 0.02 * t, 1e-12);
+  EXPECT_EQ(metrics["particle_count"].get<double>(), 48.0);
+}
+
 }  // namespace
 }  // namespace seep::testing

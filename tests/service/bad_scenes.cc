@@ -18,6 +18,21 @@ v1::RandomPacking* RandomBox(v1::Scene& scene) {
   return r;
 }
 
+// Adds a valid contacts effect (effects[0]) and a walls effect (effects[1]) with one wall, the
+// segment (0, 0) -> (1, 0), which the cases below break.
+v1::Wall* SegmentWall(v1::Scene& scene) {
+  auto* contacts = scene.add_effects()->mutable_contacts();
+  contacts->mutable_law()->set_kn_n_per_m(1e7);
+  contacts->mutable_law()->set_damping(v1::NORMAL_DAMPING_CRITICAL_RATIO);
+  contacts->set_density_kg_m3(2650);
+  v1::Wall* wall = scene.add_effects()->mutable_walls()->add_walls();
+  wall->set_x0_m(0);
+  wall->set_y0_m(0);
+  wall->set_x1_m(1);
+  wall->set_y1_m(0);
+  return wall;
+}
+
 }  // namespace
 
 const std::vector<BadScene>& CommonBadScenes() {
@@ -162,6 +177,31 @@ const std::vector<BadScene>& CommonBadScenes() {
          s.add_effects()->mutable_walls()->add_walls();
        },
        "scene.effects[1].walls.walls[0].side:"},
+      {"WallEndPointMissing", [](v1::Scene& s) { SegmentWall(s)->clear_y1_m(); },
+       "scene.effects[1].walls.walls[0].y1_m: a wall given by its end points needs all four"},
+      {"WallSideAndEndPoints", [](v1::Scene& s) { SegmentWall(s)->set_side(v1::WALL_SIDE_LEFT); },
+       "scene.effects[1].walls.walls[0].side: a wall is given by its side or by its end points"},
+      {"WallZeroLength", [](v1::Scene& s) { SegmentWall(s)->set_x1_m(0); },
+       "scene.effects[1].walls.walls[0].x1_m: the segment has zero length"},
+      {"WallEndPointNaN", [](v1::Scene& s) { SegmentWall(s)->set_x0_m(kNaN); },
+       "scene.effects[1].walls.walls[0].x0_m: must be finite"},
+      {"WallServoAndVelocity",
+       [](v1::Scene& s) {
+         v1::Wall* wall = SegmentWall(s);
+         wall->set_servo_stress_pa(1e5);
+         wall->set_servo_max_speed_m_s(0.1);
+         wall->set_normal_velocity_m_s(0.01);
+       },
+       "scene.effects[1].walls.walls[0].normal_velocity_m_s: a wall is servo-controlled"},
+      {"WallVelocityInfinite", [](v1::Scene& s) { SegmentWall(s)->set_normal_velocity_m_s(kInf); },
+       "scene.effects[1].walls.walls[0].normal_velocity_m_s: must be finite"},
+      {"SegmentWallWithFlow",
+       [](v1::Scene& s) {
+         SegmentWall(s);
+         s.add_effects()->mutable_flow();
+       },
+       "scene.effects[1].walls.walls[0].x0_m: a wall given by its end points cannot bound the "
+       "fluid"},
   };
   return scenes;
 }

@@ -69,8 +69,10 @@ bool DemContactForces::NeedsRebuild(const DemParticles& p,
   }
   const double half_skin = 0.5 * settings_.skin;
   for (std::size_t w = 0; w < walls.size(); ++w) {
-    const double d =
-        (walls[w].px - ref_wall_x_[w]) * walls[w].nx + (walls[w].py - ref_wall_y_[w]) * walls[w].ny;
+    const double dx = walls[w].px - ref_wall_x_[w], dy = walls[w].py - ref_wall_y_[w];
+    // A line moving along itself does not move; a segment does, so its whole displacement counts.
+    const bool segment = w < wall_extents_.size() && wall_extents_[w].finite();
+    const double d = segment ? std::hypot(dx, dy) : dx * walls[w].nx + dy * walls[w].ny;
     if (std::abs(d) > half_skin) return true;
   }
   return false;
@@ -214,9 +216,7 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
     const std::size_t nold = wall_p_.size();
     for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t w = 0; w < walls.size(); ++w) {
-        const DemWall& wall = walls[w];
-        const double gap =
-            (p->x[i] - wall.px) * wall.nx + (p->y[i] - wall.py) * wall.ny - p->radius[i];
+        const double gap = WallGapOf(*p, i, w, walls).gap;
         if (!(gap < cutoff)) continue;
         const auto ii = static_cast<std::int32_t>(i), wi = static_cast<std::int32_t>(w);
         while (old < nold && KeyLess(wall_p_[old], wall_w_[old], ii, wi)) ++old;
@@ -387,7 +387,8 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     const std::int32_t i = wall_p_[c];
     const DemWall& wall = walls[wall_w_[c]];
     const double ri = p->radius[i];
-    const double gap = (p->x[i] - wall.px) * wall.nx + (p->y[i] - wall.py) * wall.ny - ri;
+    const WallGap where = WallGapOf(*p, static_cast<std::size_t>(i), wall_w_[c], walls);
+    const double gap = where.gap;
     wall_gap_[c] = gap;
     if (!(gap < 0.0)) {
       wall_shear_[c] = 0.0;
@@ -396,7 +397,7 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     }
     ++touching;
     // Normal from the disk to the wall, tangent t = z x n.
-    const double nx = -wall.nx, ny = -wall.ny;
+    const double nx = -where.ux, ny = -where.uy;
     const double dvx = wall.vx - p->vx[i], dvy = wall.vy - p->vy[i];
     const double vn = dvx * nx + dvy * ny;
     const double vt = dvy * nx - dvx * ny - p->omega[i] * ri;
@@ -409,7 +410,11 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     p->fy[i] += -f.fn * ny + f.ft * nx;
     p->torque[i] += ri * f.ft;
     DemWallLoad& load = wall_loads_[wall_w_[c]];
-    load.normal_force += f.fn;
+    // The load along the wall's normal: the whole force for a line (u = n), its normal part at a
+    // segment's end or on its back face.
+    const bool segment = static_cast<std::size_t>(wall_w_[c]) < wall_extents_.size() &&
+                         wall_extents_[wall_w_[c]].finite();
+    load.normal_force += segment ? f.fn * (where.ux * wall.nx + where.uy * wall.ny) : f.fn;
     load.stiffness_sum += law.kn;
     load.damping_sum += damping;
     ++load.contact_count;
@@ -418,6 +423,21 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     counters->wall_checks += wall_p_.size();
     counters->wall_evaluations += touching;
   }
+}
+
+WallGap DemContactForces::WallGapOf(const DemParticles& p, std::size_t i, std::size_t w,
+                                    const std::vector<DemWall>& walls) const {
+  if (w < wall_extents_.size() && wall_extents_[w].finite()) {
+    return SegmentWallGap(walls[w], wall_extents_[w], p.x[i], p.y[i], p.radius[i]);
+  }
+  return LineWallGap(walls[w], p.x[i], p.y[i], p.radius[i]);
+}
+
+Status DemContactForces::SetWallExtents(std::vector<DemWallExtent> extents) {
+  SEEP_RETURN_IF_ERROR(ValidateWallExtents(extents));
+  wall_extents_ = std::move(extents);
+  needs_rebuild_ = true;
+  return Status::Ok();
 }
 
 void DemContactForces::CollectBondBreaks(DemCounters* counters) {
@@ -565,9 +585,9 @@ std::size_t DemContactForces::MemoryBytes() const {
          Bytes(gather_items_) + Bytes(bond_i_) + Bytes(bond_j_) + Bytes(bond_half_width_) +
          Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
          Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +
-         Bytes(wall_loads_) + Bytes(ref_x_) + Bytes(ref_y_) + Bytes(ref_wall_x_) +
-         Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) + grid_.MemoryBytes() +
-         Bytes(row_candidates_);
+         Bytes(wall_loads_) + Bytes(wall_extents_) + Bytes(ref_x_) + Bytes(ref_y_) +
+         Bytes(ref_wall_x_) + Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) +
+         grid_.MemoryBytes() + Bytes(row_candidates_);
 }
 
 }  // namespace seep::core

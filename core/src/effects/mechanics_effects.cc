@@ -115,15 +115,18 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kPostForceHook; }
 
-  // Each wall touches the outermost disk surface of its side of the packing's bounding box.
+  // Each side wall touches the outermost disk surface of its side of the packing's bounding box;
+  // a segment wall is where its end points say, and the contacts learn its extent.
   Status Bind(LiveState& s, const EffectSet&) override {
     const DemParticles& p = s.particles;
     SEEP_ASSIGN_OR_RETURN(const std::vector<PlacedWall> placed,
                           PlaceWalls(spec_, p.x, p.y, p.radius));
     s.walls.clear();
     servo_.clear();
+    std::vector<DemWallExtent> extents;
     for (std::size_t w = 0; w < placed.size(); ++w) {
       s.walls.push_back(placed[w].wall);
+      extents.push_back(placed[w].extent);
       ServoWallSettings servo;
       servo.target_stress = spec_.walls[w].servo_stress_pa;
       servo.length = placed[w].length;
@@ -131,6 +134,9 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
       servo.max_speed = spec_.walls[w].servo_max_speed_m_s;
       servo_.push_back(servo);
     }
+    placed_ = s.walls;
+    SEEP_RETURN_IF_ERROR(s.contacts->SetWallExtents(std::move(extents)));
+    SetPrescribedVelocities(s);
     wall_stress_pa_.assign(s.walls.size(), 0.0);
     effective_stress_pa_.assign(s.walls.size(), 0.0);
     return Status::Ok();
@@ -160,16 +166,16 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   // total (contacts + pore pressure) and effective (contacts alone).
   void AddMetrics(const LiveState& s, Metrics* m) const override {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
-      const char* side = WallSideName(spec_.walls[w].side);
-      (*m)[fmt::format("{}_wall_position_m", side)] = Position(s, w);
-      (*m)[fmt::format("{}_wall_stress_pa", side)] = wall_stress_pa_[w];
-      (*m)[fmt::format("{}_wall_effective_stress_pa", side)] = effective_stress_pa_[w];
+      const std::string name = WallName(spec_.walls[w], w);
+      (*m)[fmt::format("{}_wall_position_m", name)] = Position(s, w);
+      (*m)[fmt::format("{}_wall_stress_pa", name)] = wall_stress_pa_[w];
+      (*m)[fmt::format("{}_wall_effective_stress_pa", name)] = effective_stress_pa_[w];
     }
   }
   void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
     for (const char* column : {"position_m", "stress_pa", "effective_stress_pa"}) {
-      for (const WallSpec& w : spec_.walls) {
-        columns->push_back(fmt::format("{}_wall_{}", WallSideName(w.side), column));
+      for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
+        columns->push_back(fmt::format("{}_wall_{}", WallName(spec_.walls[w], w), column));
       }
     }
   }
@@ -180,13 +186,31 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   }
 
  private:
+  // A velocity-controlled wall moves at its speed along its normal from the start (MoveWalls
+  // advances it; the velocity is in the checkpointed wall state).
+  void SetPrescribedVelocities(LiveState& s) const {
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+      if (const auto& v = spec_.walls[w].normal_velocity_m_s) {
+        s.walls[w].vx = *v * s.walls[w].nx;
+        s.walls[w].vy = *v * s.walls[w].ny;
+      }
+    }
+  }
+
+  // A side wall: its x (left, right) or y (bottom, top). A segment wall: how far it has moved
+  // along its normal since it was placed.
   double Position(const LiveState& s, std::size_t w) const {
+    const DemWall& wall = s.walls[w];
+    if (spec_.walls[w].segment) {
+      return (wall.px - placed_[w].px) * wall.nx + (wall.py - placed_[w].py) * wall.ny;
+    }
     const WallSide side = spec_.walls[w].side;
     const bool vertical = side == WallSide::kLeft || side == WallSide::kRight;
-    return vertical ? s.walls[w].px : s.walls[w].py;
+    return vertical ? wall.px : wall.py;
   }
 
   std::vector<ServoWallSettings> servo_;
+  std::vector<DemWall> placed_;              // the walls where Bind placed them
   std::vector<double> wall_stress_pa_;       // total normal stress per wall at the last step
   std::vector<double> effective_stress_pa_;  // its contacts' part
 };

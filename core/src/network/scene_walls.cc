@@ -18,6 +18,14 @@ Result<std::vector<PlacedWall>> PlaceWalls(const WallsEffectSpec& spec, std::spa
   }
   std::vector<PlacedWall> out;
   for (const WallSpec& w : spec.walls) {
+    if (const auto& seg = w.segment) {
+      PlacedWall placed;
+      SEEP_ASSIGN_OR_RETURN(
+          placed.wall, MakeSegmentWall(seg->x0_m, seg->y0_m, seg->x1_m, seg->y1_m, &placed.extent));
+      placed.length = placed.extent.hi;
+      out.push_back(placed);
+      continue;
+    }
     Result<DemWall> wall = Status::Ok();
     double length = 0.0;
     switch (w.side) {
@@ -39,7 +47,7 @@ Result<std::vector<PlacedWall>> PlaceWalls(const WallsEffectSpec& spec, std::spa
         break;
     }
     SEEP_RETURN_IF_ERROR(wall.status());
-    out.push_back({*wall, length});
+    out.push_back({*wall, length, DemWallExtent{}});
   }
   return out;
 }

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "seep/core/dem/contact_law.h"
 #include "seep/core/dem/parallel_bond.h"
@@ -71,10 +72,25 @@ struct FieldValidator {
     bool seen[4] = {false, false, false, false};
     for (std::size_t k = 0; k < w.walls.size(); ++k) {
       const WallSpec& wall = w.walls[k];
-      const auto side = static_cast<std::size_t>(wall.side);
       const std::string field = fmt::format("walls[{}]", k);
-      if (seen[side]) return Bad(field.c_str(), "a second wall on the same side");
-      seen[side] = true;
+      if (const auto& seg = wall.segment) {
+        SEEP_RETURN_IF_ERROR(Segment(field, *seg));
+      } else {
+        const auto side = static_cast<std::size_t>(wall.side);
+        if (seen[side]) return Bad(field.c_str(), "a second wall on the same side");
+        seen[side] = true;
+      }
+      if (const auto& v = wall.normal_velocity_m_s) {
+        if (!std::isfinite(*v)) {
+          return Bad((field + ".normal_velocity_m_s").c_str(),
+                     fmt::format("must be finite (got {})", *v));
+        }
+        if (wall.servo_stress_pa != 0.0) {
+          return Bad((field + ".normal_velocity_m_s").c_str(),
+                     "a wall is servo-controlled (servo_stress_pa) or velocity-controlled, not "
+                     "both");
+        }
+      }
       if (!std::isfinite(wall.servo_stress_pa) || wall.servo_stress_pa < 0.0) {
         return Bad((field + ".servo_stress_pa").c_str(),
                    fmt::format("must be a finite number >= 0 (got {})", wall.servo_stress_pa));
@@ -105,6 +121,23 @@ struct FieldValidator {
     }
     return Status::Ok();
   }
+  // Finite end points, distinct.
+  Status Segment(const std::string& field, const WallSegmentSpec& seg) const {
+    const std::pair<const char*, double> ends[] = {
+        {"x0_m", seg.x0_m}, {"y0_m", seg.y0_m}, {"x1_m", seg.x1_m}, {"y1_m", seg.y1_m}};
+    for (const auto& [name, value] : ends) {
+      if (!std::isfinite(value)) {
+        return Bad(fmt::format("{}.{}", field, name).c_str(),
+                   fmt::format("must be finite (got {})", value));
+      }
+    }
+    if (seg.x0_m == seg.x1_m && seg.y0_m == seg.y1_m) {
+      return Bad((field + ".x1_m").c_str(),
+                 fmt::format("the segment has zero length: (x1_m, y1_m) = (x0_m, y0_m) = ({}, {})",
+                             seg.x0_m, seg.y0_m));
+    }
+    return Status::Ok();
+  }
   Status operator()(const VolumeChangeEffectSpec&) const { return Status::Ok(); }
   Status operator()(const ApertureUpdateEffectSpec&) const { return Status::Ok(); }
   Status operator()(const FlowEffectSpec&) const { return Status::Ok(); }
@@ -125,6 +158,10 @@ std::string_view EffectName(std::size_t kind) {
       "volume_change", "aperture_update", "flow",    "redetection",  "injection"};
   static_assert(std::size(kNames) == kEffectKinds, "one name per EffectSpec arm");
   return kind < kEffectKinds ? kNames[kind] : std::string_view("unknown");
+}
+
+std::string WallName(const WallSpec& wall, std::size_t k) {
+  return wall.segment ? fmt::format("segment{}", k) : std::string(WallSideName(wall.side));
 }
 
 Status ValidateEffects(const SceneSpec& scene) {
@@ -164,6 +201,17 @@ Status ValidateEffects(const SceneSpec& scene) {
     if ((coupling || std::holds_alternative<InjectionEffectSpec>(e)) && !flow) {
       return InvalidArgument(fmt::format(
           "{}: requires the flow effect (there is no fluid to couple)", Field(k, e, "")));
+    }
+    // With flow the walls bound the fluid, and the fluid's walls are lines clipped against each
+    // other (domain_walls.h): a segment, which disks pass beyond, has no fluid model yet.
+    if (const auto* walls = std::get_if<WallsEffectSpec>(&e); walls != nullptr && flow) {
+      for (std::size_t w = 0; w < walls->walls.size(); ++w) {
+        if (!walls->walls[w].segment) continue;
+        return InvalidArgument(fmt::format(
+            "{}: a wall given by its end points cannot bound the fluid (walls in the fluid are "
+            "the sides of the packing's box); give it a side, or drop the flow effect",
+            Field(k, e, fmt::format("walls[{}].x0_m", w).c_str())));
+      }
     }
     if (std::holds_alternative<InjectionEffectSpec>(e) && !scene.boundary.radial) {
       return InvalidArgument(

@@ -14,6 +14,7 @@ namespace {
 
 using dem_test::MakeContacts;
 using dem_test::MakeDisks;
+using dem_test::RunWithServo;
 
 TEST(DemServoWall, ReachesTargetStress) {
   DemParticles p = MakeDisks({{0.0, 0.5, 0.5}, {0.0, 1.5, 0.5}, {0.0, 2.5, 0.5}}, 1.0);
@@ -32,14 +33,9 @@ TEST(DemServoWall, ReachesTargetStress) {
   servo.gain_fraction = 0.3;
   servo.max_speed = 1.0;
   ASSERT_TRUE(ValidateServoWallSettings(servo).ok());
-  DemStepOptions options;
-  options.dt = 1.0e-5;
   DemCounters counters;
-  ASSERT_TRUE(ComputeDemForces(&p, walls, &contacts, options, &counters).ok());
-  for (int s = 0; s < 60000; ++s) {
-    ApplyServo(servo, contacts.wall_loads()[1], options.dt, &walls[1], &counters);
-    ASSERT_TRUE(DemStep(&p, &walls, &contacts, options, &counters).ok());
-  }
+  RunWithServo(&p, &walls, &contacts, servo, 1, 1.0e-5, 60000, &counters);
+  ASSERT_FALSE(HasFatalFailure());
   const double target_force = servo.target_stress * servo.length;  // 1000
   // Converged: the servo is a first-order loop (each step removes gain_fraction of the error),
   // damped by the contacts' critical ratio 0.7; after 60000 steps the residual is far below

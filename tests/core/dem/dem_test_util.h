@@ -9,6 +9,7 @@
 #include "seep/core/dem/dem_contacts.h"
 #include "seep/core/dem/dem_particles.h"
 #include "seep/core/dem/dem_step.h"
+#include "seep/core/dem/servo_wall.h"
 #include "seep/core/geometry/packing.h"
 
 namespace seep::core::dem_test {
@@ -29,6 +30,20 @@ inline DemContactForces MakeContacts(const DemContactSettings& settings) {
   Result<DemContactForces> c = DemContactForces::Create(settings);
   EXPECT_TRUE(c.ok()) << c.status().ToString();
   return std::move(c).value();
+}
+
+// One force pass, then `steps` steps of dt, wall `servo_wall` servo-controlled by `servo` from
+// the load of the pass before each step.
+inline void RunWithServo(DemParticles* p, std::vector<DemWall>* walls, DemContactForces* contacts,
+                         const ServoWallSettings& servo, std::size_t servo_wall, double dt,
+                         int steps, DemCounters* counters) {
+  DemStepOptions options;
+  options.dt = dt;
+  ASSERT_TRUE(ComputeDemForces(p, *walls, contacts, options, counters).ok());
+  for (int s = 0; s < steps; ++s) {
+    ApplyServo(servo, contacts->wall_loads()[servo_wall], dt, &(*walls)[servo_wall], counters);
+    ASSERT_TRUE(DemStep(p, walls, contacts, options, counters).ok());
+  }
 }
 
 }  // namespace seep::core::dem_test

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <stop_token>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +83,26 @@ inline SceneSpec WithOpenEnds(SceneSpec s) {
   s.boundary.inlet_pressure_pa = 2e4;
   s.boundary.outlet_pressure_pa = 0.0;
   return s;
+}
+
+// Runs `scene` until stop_when holds at a step end, snapshots it (into *mid) and returns a fresh
+// simulation restored from that snapshot, not yet run on.
+inline Simulation ResumedAt(const SceneSpec& scene,
+                            const std::function<bool(const Simulation&)>& stop_when,
+                            SimulationSnapshot* mid) {
+  Simulation first = MustCreate(scene);
+  std::stop_source stop;
+  RunControl control;
+  control.stop = stop.get_token();
+  control.at_step_end = [&](const Simulation& s) {
+    if (stop_when(s)) stop.request_stop();
+  };
+  EXPECT_EQ(first.Run(control).code(), StatusCode::kCancelled);
+  *mid = first.TakeSnapshot();
+  Simulation resumed = MustCreate(scene);
+  const Status restored = resumed.Restore(*mid);
+  EXPECT_TRUE(restored.ok()) << restored.message();
+  return resumed;
 }
 
 inline double Metric(const RunReport& report, const std::string& name) {

@@ -19,6 +19,7 @@ using effects_test::BoxedLatticeScene;
 using effects_test::Contacts;
 using effects_test::MustCreate;
 using effects_test::MustRun;
+using effects_test::ResumedAt;
 using effects_test::WithOpenEnds;
 
 // Contacts and flow only: every counter of an unlisted effect stays zero, the listed ones work.
@@ -189,23 +190,20 @@ TEST(Effects, ResumeOfAMovingSceneIsBitIdentical) {
   MustRun(reference);
   const SimulationSnapshot expected = reference.TakeSnapshot();
 
-  Simulation first = MustCreate(scene);
-  std::stop_source stop;
-  RunControl control;
-  control.stop = stop.get_token();
   // Stop a few steps after the first bond broke, so that the rest of the run breaks more bonds
   // and re-detects from the restored state.
   std::uint64_t stop_at = 0;
-  control.at_step_end = [&](const Simulation& s) {
-    if (stop_at == 0 && s.stepper().state().counters.dem.bonds_broken > 0) stop_at = s.step() + 3;
-    if (s.step() == stop_at) stop.request_stop();
-  };
-  ASSERT_EQ(first.Run(control).code(), StatusCode::kCancelled);
-  const SimulationSnapshot mid = first.TakeSnapshot();
-
-  Simulation resumed = MustCreate(scene);
-  const Status restored = resumed.Restore(mid);
-  ASSERT_TRUE(restored.ok()) << restored.message();
+  SimulationSnapshot mid;
+  Simulation resumed = ResumedAt(
+      scene,
+      [&](const Simulation& s) {
+        if (stop_at == 0 && s.stepper().state().counters.dem.bonds_broken > 0) {
+          stop_at = s.step() + 3;
+        }
+        return s.step() == stop_at;
+      },
+      &mid);
+  ASSERT_FALSE(HasFailure());
   MustRun(resumed);
   const SimulationSnapshot got = resumed.TakeSnapshot();
 

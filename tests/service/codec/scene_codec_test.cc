@@ -53,6 +53,46 @@ TEST(SceneCodec, ConvertsAValidScene) {
   EXPECT_DOUBLE_EQ(spec->boundary.inlet_pressure_pa, 1e5);
 }
 
+// A wall given by its end points and a velocity keeps them through the codec; a side wall stays
+// a side wall without either.
+TEST(SceneCodec, ConvertsSegmentAndVelocityControlledWalls) {
+  v1::Scene scene = ValidScene();
+  ASSERT_TRUE(google::protobuf::TextFormat::MergeFromString(
+      R"pb(
+        effects {
+          contacts {
+            law { kn_n_per_m: 1e7 damping: NORMAL_DAMPING_CRITICAL_RATIO }
+            density_kg_m3: 2650
+          }
+        }
+        effects {
+          walls {
+            walls { x0_m: -0.01 y0_m: 0.002 x1_m: 0.03 y1_m: -0.001 normal_velocity_m_s: -0.25 }
+            walls { side: WALL_SIDE_TOP servo_stress_pa: 1e5 servo_max_speed_m_s: 0.1 }
+          }
+        }
+      )pb",
+      &scene));
+  auto spec = SceneFromProto(scene);
+  ASSERT_TRUE(spec.ok()) << spec.status().ToString();
+  const auto& walls = std::get<core::WallsEffectSpec>(spec->effects[1]).walls;
+  ASSERT_EQ(walls.size(), 2u);
+  ASSERT_TRUE(walls[0].segment.has_value());
+  EXPECT_EQ(walls[0].segment->x0_m, -0.01);
+  EXPECT_EQ(walls[0].segment->y0_m, 0.002);
+  EXPECT_EQ(walls[0].segment->x1_m, 0.03);
+  EXPECT_EQ(walls[0].segment->y1_m, -0.001);
+  ASSERT_TRUE(walls[0].normal_velocity_m_s.has_value());
+  EXPECT_EQ(*walls[0].normal_velocity_m_s, -0.25);
+  EXPECT_EQ(walls[0].servo_stress_pa, 0.0);
+  EXPECT_FALSE(walls[1].segment.has_value());
+  EXPECT_FALSE(walls[1].normal_velocity_m_s.has_value());
+  EXPECT_EQ(walls[1].side, core::WallSide::kTop);
+  EXPECT_EQ(walls[1].servo_stress_pa, 1e5);
+  EXPECT_EQ(core::WallName(walls[0], 0), "segment0");
+  EXPECT_EQ(core::WallName(walls[1], 1), "top");
+}
+
 // Turns the valid scene into a valid radial one.
 void MakeRadial(v1::Scene& scene) {
   auto* b = scene.mutable_boundary();

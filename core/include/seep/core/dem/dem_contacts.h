@@ -9,7 +9,8 @@
 // touch has zero history (a new contact starts from zero history; a separating one loses it), so
 // the sorted list of contacts (CollectContacts) is exactly "the persistent contact list keyed by
 // (i, j)" of the design, without inserting or erasing in the hot loop. Disk-wall contacts are kept
-// the same way, keyed (i, wall) and sorted.
+// the same way, keyed (i, wall) and sorted. A wall is a line unless SetWallExtents made it a
+// segment (dem_wall.h): then the contact is with the segment's nearest point.
 //
 // Rebuild policy. The list is rebuilt (cell grid of size 2 R_max + skin + flow_gap, O(N)) only
 // when some particle has moved more than skin/2, or some wall more than skin/2 along its normal,
@@ -109,6 +110,12 @@ class DemContactForces {
   // Next AddForces rebuilds the list (after particles or walls were added, moved or replaced).
   void ForceRebuild() { needs_rebuild_ = true; }
 
+  // Makes wall k the segment extents[k] of its line (walls past the end of `extents` stay lines;
+  // ValidateWallExtents) and rebuilds at the next pass. Like the settings, the extents are not in
+  // the saved state: an object restored for a run with segment walls is given them again.
+  Status SetWallExtents(std::vector<DemWallExtent> extents);
+  const std::vector<DemWallExtent>& wall_extents() const { return wall_extents_; }
+
   // Bonds that broke during the last AddForces/SetForces, sorted by (i, j): the event the flow
   // coupling needs to re-detect domains.
   const std::vector<BondBreak>& broken_bonds() const { return broken_; }
@@ -185,6 +192,9 @@ class DemContactForces {
   void CollectBondBreaks(DemCounters* counters);
   // Per-particle gather CSR of the pair table for n particles (ascending pair order).
   void BuildGatherLists(std::size_t n);
+  // Where disk i stands to wall w (a line or, with an extent, a segment).
+  WallGap WallGapOf(const DemParticles& p, std::size_t i, std::size_t w,
+                    const std::vector<DemWall>& walls) const;
 
   DemContactSettings settings_;
   bool needs_rebuild_ = true;
@@ -236,6 +246,7 @@ class DemContactForces {
   std::vector<std::int32_t> wall_p_, wall_w_;
   std::vector<double> wall_shear_, wall_fn_, wall_gap_;
   std::vector<DemWallLoad> wall_loads_;
+  std::vector<DemWallExtent> wall_extents_;  // per wall up to its size; the others are lines
 
   // Reference positions of the last rebuild.
   std::vector<double> ref_x_, ref_y_;

@@ -1,5 +1,6 @@
 // The walls of a scene where the walls effect places them, for the DEM and for the fluid network
-// alike: each wall touches the outermost disk surface of its side of the packing's bounding box.
+// alike: each side wall touches the outermost disk surface of its side of the packing's bounding
+// box; a segment wall is where its end points say.
 #pragma once
 
 #include <span>
@@ -14,7 +15,9 @@ namespace seep::core {
 
 struct PlacedWall {
   DemWall wall;
-  double length = 0.0;  // the loaded length: the bounding box's side (the servo's stress basis)
+  double length = 0.0;   // the loaded length: the bounding box's side (the servo's stress basis)
+                         // or the segment's length
+  DemWallExtent extent;  // a line for a side wall, [0, length] for a segment wall
 };
 
 // One per spec.walls entry, in that order, for the disks (x, y, radius).

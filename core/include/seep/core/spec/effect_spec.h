@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <type_traits>
 #include <variant>
@@ -78,19 +79,32 @@ struct WallDrainSpec {
   double conductance_m_per_pa_s = 0.0;                            // > 0
 };
 
-// A rigid wall on one side of the packing's bounding box, touching its outermost disk; with
-// servo_stress_pa > 0 its speed is servo-controlled to hold that normal stress (servo_wall.h).
-// With flow, the wall bounds the fluid (physics.md §2.4 option B): the pores along it are
-// domains closed by it, it is impermeable unless drained, and the pore pressure of those domains
-// pushes on it. The servo holds the total stress (contacts + pore pressure) unless
-// servo_effective_stress asks for the contacts' stress alone.
+// A wall given by its end points instead of a side: the segment from (x0, y0) to (x1, y1), its
+// normal on the left of the direction of travel (the side a servo or a velocity pushes towards).
+// Disks touch its nearest point and pass beyond its ends (dem_wall.h).
+struct WallSegmentSpec {
+  double x0_m = 0.0, y0_m = 0.0, x1_m = 0.0, y1_m = 0.0;
+};
+
+// A rigid wall on one side of the packing's bounding box, touching its outermost disk, or the
+// segment `segment`; with servo_stress_pa > 0 its speed is servo-controlled to hold that normal
+// stress (servo_wall.h), with normal_velocity_m_s it moves at that speed along its normal
+// (strain-controlled loading; > 0 towards the side the normal points to: inwards for a side
+// wall). With flow, a side wall bounds the fluid (physics.md §2.4 option B): the pores along it
+// are domains closed by it, it is impermeable unless drained, and the pore pressure of those
+// domains pushes on it (segment walls are refused with flow: the fluid's walls are lines). The
+// servo holds the total stress (contacts + pore pressure) unless servo_effective_stress asks for
+// the contacts' stress alone.
 struct WallSpec {
-  WallSide side = WallSide::kBottom;
-  double servo_stress_pa = 0.0;  // 0 = fixed wall
+  WallSide side = WallSide::kBottom;  // ignored when `segment` is set
+  double servo_stress_pa = 0.0;       // 0 = fixed wall
   double servo_gain_fraction = 0.5;
   double servo_max_speed_m_s = 0.0;    // > 0 for a servo wall
   std::optional<WallDrainSpec> drain;  // unset: impermeable
   bool servo_effective_stress = false;
+  // (Last, so that code listing the fields above in order still means the same wall.)
+  std::optional<WallSegmentSpec> segment;     // set: the wall is this segment
+  std::optional<double> normal_velocity_m_s;  // set: velocity-controlled (not with a servo)
 };
 
 // A fixed wall on `side`, or a servo wall when servo_stress_pa > 0; impermeable, servo on the
@@ -104,6 +118,16 @@ inline WallSpec SideWall(WallSide side, double servo_stress_pa = 0.0,
   w.servo_max_speed_m_s = servo_max_speed_m_s;
   return w;
 }
+
+// A fixed wall from (x0, y0) to (x1, y1), the particles on the left of the direction of travel.
+inline WallSpec SegmentWall(double x0, double y0, double x1, double y1) {
+  WallSpec w;
+  w.segment = WallSegmentSpec{x0, y0, x1, y1};
+  return w;
+}
+
+// How reports and series name wall k: its side, or "segment<k>" for a segment wall.
+std::string WallName(const WallSpec& wall, std::size_t k);
 
 // The same wall, drained into a reservoir at pressure_pa.
 inline WallSpec Drained(WallSpec wall, double pressure_pa, double conductance_m_per_pa_s) {
