@@ -71,8 +71,7 @@ bool DemContactForces::NeedsRebuild(const DemParticles& p,
   for (std::size_t w = 0; w < walls.size(); ++w) {
     const double dx = walls[w].px - ref_wall_x_[w], dy = walls[w].py - ref_wall_y_[w];
     // A line moving along itself does not move; a segment does, so its whole displacement counts.
-    const bool segment = w < wall_extents_.size() && wall_extents_[w].finite();
-    const double d = segment ? std::hypot(dx, dy) : dx * walls[w].nx + dy * walls[w].ny;
+    const double d = IsSegment(w) ? std::hypot(dx, dy) : dx * walls[w].nx + dy * walls[w].ny;
     if (std::abs(d) > half_skin) return true;
   }
   return false;
@@ -412,9 +411,9 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     DemWallLoad& load = wall_loads_[wall_w_[c]];
     // The load along the wall's normal: the whole force for a line (u = n), its normal part at a
     // segment's end or on its back face.
-    const bool segment = static_cast<std::size_t>(wall_w_[c]) < wall_extents_.size() &&
-                         wall_extents_[wall_w_[c]].finite();
-    load.normal_force += segment ? f.fn * (where.ux * wall.nx + where.uy * wall.ny) : f.fn;
+    load.normal_force += IsSegment(static_cast<std::size_t>(wall_w_[c]))
+                             ? f.fn * (where.ux * wall.nx + where.uy * wall.ny)
+                             : f.fn;
     load.stiffness_sum += law.kn;
     load.damping_sum += damping;
     ++load.contact_count;
@@ -427,7 +426,7 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
 
 WallGap DemContactForces::WallGapOf(const DemParticles& p, std::size_t i, std::size_t w,
                                     const std::vector<DemWall>& walls) const {
-  if (w < wall_extents_.size() && wall_extents_[w].finite()) {
+  if (IsSegment(w)) {
     return SegmentWallGap(walls[w], wall_extents_[w], p.x[i], p.y[i], p.radius[i]);
   }
   return LineWallGap(walls[w], p.x[i], p.y[i], p.radius[i]);

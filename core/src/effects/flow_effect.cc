@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "network_report.h"
 #include "seep/core/effects/effect_set.h"
@@ -26,9 +27,8 @@ Status CheckFinite(const FlowStepReport& r, const StepInfo& info) {
 // The run's books (fluid_ledger.h): fluid_injected_m2, fluid_left_<boundary>_m2 per boundary,
 // fluid_stored_m2 (= compressed + pore growth), fluid_redetection_m2, fluid_handled_m2 and
 // fluid_balance_error, |imbalance| / handled.
-void AddLedgerMetrics(const SceneSpec& scene, const FluidLedger& ledger, Metrics* m) {
+void AddLedgerMetrics(std::span<const std::string> names, const FluidLedger& ledger, Metrics* m) {
   (*m)["fluid_injected_m2"] = ledger.injected_m2;
-  const std::vector<std::string> names = FluidBoundaryNames(scene);
   for (std::size_t b = 0; b < names.size() && b < ledger.left_m2.size(); ++b) {
     (*m)[fmt::format("fluid_left_{}_m2", names[b])] = ledger.left_m2[b];
   }
@@ -94,7 +94,8 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     ApplyHydrostaticStart(scene, *weight_, node_weight_, &s.net.flow);
   }
   if (mode_ == FlowMode::kSteady) return Status::Ok();
-  s.books.ledger.left_m2.assign(FluidBoundaryNames(scene).size(), 0.0);
+  boundary_names_ = FluidBoundaryNames(scene);
+  s.books.ledger.left_m2.assign(boundary_names_.size(), 0.0);
   SEEP_RETURN_IF_ERROR(MapBoundaries(s));
   const StorageModel& storage = s.storage;
   if (scene.solver.kind == SolverKind::kExplicit) {
@@ -205,7 +206,7 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
   }
   effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_),
                                       node_weight_, m);
-  if (mode_ != FlowMode::kSteady) AddLedgerMetrics(*s.scene, s.books.ledger, m);
+  if (mode_ != FlowMode::kSteady) AddLedgerMetrics(boundary_names_, s.books.ledger, m);
 }
 
 void FlowEffect::AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const {

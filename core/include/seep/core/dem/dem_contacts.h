@@ -193,6 +193,10 @@ class DemContactForces {
   // Per-particle gather CSR of the pair table for n particles (ascending pair order).
   void BuildGatherLists(std::size_t n);
   // Where disk i stands to wall w (a line or, with an extent, a segment).
+  // Wall w is a finite segment (an extent was set for it), not a line.
+  bool IsSegment(std::size_t w) const {
+    return w < wall_extents_.size() && wall_extents_[w].finite();
+  }
   WallGap WallGapOf(const DemParticles& p, std::size_t i, std::size_t w,
                     const std::vector<DemWall>& walls) const;
 

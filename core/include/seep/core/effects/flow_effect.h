@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -78,6 +79,7 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   FluidVertices vertices_;           // the loops' vertices now (walls in the fluid)
   // The books' boundaries: (fixed node, boundary index) of the current network, and the tally
   // the solver fills over an update (transient modes only).
+  std::vector<std::string> boundary_names_;  // FluidBoundaryNames of the scene, set at bind
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_nodes_;
   FluidTally tally_;
 };
