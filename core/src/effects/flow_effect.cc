@@ -80,6 +80,11 @@ Status FlowEffect::Rebind(LiveState& s) {
   return RefreshFluidWeight(s);
 }
 
+Status FlowEffect::Reconfigure(LiveState& s) {
+  if (s.has_network) SetBoundaryPressures(*s.scene, &s.net);
+  return Status::Ok();
+}
+
 Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   const SceneSpec& scene = *s.scene;
   volume_change_ = effects.volume_change;

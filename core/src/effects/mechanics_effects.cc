@@ -108,6 +108,11 @@ class LocalDampingEffect final : public EffectWithSpec<LocalDampingEffectSpec> {
     ApplyLocalDamping(&s.particles, spec_.alpha, &s.counters.dem);
     return Status::Ok();
   }
+  // A stage may change alpha (e.g. damped confinement, then undamped injection).
+  Status Reconfigure(LiveState& s) override {
+    spec_.alpha = FindEffect<LocalDampingEffectSpec>(*s.scene)->alpha;
+    return Status::Ok();
+  }
 };
 
 class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
@@ -137,8 +142,25 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
     placed_ = s.walls;
     SEEP_RETURN_IF_ERROR(s.contacts->SetWallExtents(std::move(extents)));
     SetPrescribedVelocities(s);
-    wall_stress_pa_.assign(s.walls.size(), 0.0);
-    effective_stress_pa_.assign(s.walls.size(), 0.0);
+    s.wall_stress_pa.assign(s.walls.size(), 0.0);
+    s.wall_effective_stress_pa.assign(s.walls.size(), 0.0);
+    return Status::Ok();
+  }
+
+  // A stage switched a wall between fixed, servo and velocity control or moved its target. A
+  // servo keeps the velocity it has (its own state, in the checkpoint); a velocity-controlled
+  // wall takes its speed; a fixed one stops.
+  Status Reconfigure(LiveState& s) override {
+    const std::vector<WallSpec>& live = FindEffect<WallsEffectSpec>(*s.scene)->walls;
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+      servo_[w].target_stress = live[w].servo_stress_pa;
+      spec_.walls[w].servo_stress_pa = live[w].servo_stress_pa;
+      spec_.walls[w].normal_velocity_m_s = live[w].normal_velocity_m_s;
+      if (live[w].servo_stress_pa > 0.0) continue;
+      const double v = live[w].normal_velocity_m_s.value_or(0.0);
+      s.walls[w].vx = v * s.walls[w].nx;
+      s.walls[w].vy = v * s.walls[w].ny;
+    }
     return Status::Ok();
   }
 
@@ -149,8 +171,8 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
       DemWallLoad load = loads[w];
       const double pore = w < s.wall_pore_force.size() ? s.wall_pore_force[w] : 0.0;
-      effective_stress_pa_[w] = load.normal_force / servo_[w].length;
-      wall_stress_pa_[w] = (load.normal_force + pore) / servo_[w].length;
+      s.wall_effective_stress_pa[w] = load.normal_force / servo_[w].length;
+      s.wall_stress_pa[w] = (load.normal_force + pore) / servo_[w].length;
       if (servo_[w].target_stress > 0.0) {
         if (!spec_.walls[w].servo_effective_stress) {
           load.normal_force += pore;
@@ -168,8 +190,8 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) {
       const std::string name = WallName(spec_.walls[w], w);
       (*m)[fmt::format("{}_wall_position_m", name)] = Position(s, w);
-      (*m)[fmt::format("{}_wall_stress_pa", name)] = wall_stress_pa_[w];
-      (*m)[fmt::format("{}_wall_effective_stress_pa", name)] = effective_stress_pa_[w];
+      (*m)[fmt::format("{}_wall_stress_pa", name)] = s.wall_stress_pa[w];
+      (*m)[fmt::format("{}_wall_effective_stress_pa", name)] = s.wall_effective_stress_pa[w];
     }
   }
   void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
@@ -181,8 +203,8 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   }
   void AddSample(const LiveState& s, std::vector<double>* row) const override {
     for (std::size_t w = 0; w < spec_.walls.size(); ++w) row->push_back(Position(s, w));
-    row->insert(row->end(), wall_stress_pa_.begin(), wall_stress_pa_.end());
-    row->insert(row->end(), effective_stress_pa_.begin(), effective_stress_pa_.end());
+    row->insert(row->end(), s.wall_stress_pa.begin(), s.wall_stress_pa.end());
+    row->insert(row->end(), s.wall_effective_stress_pa.begin(), s.wall_effective_stress_pa.end());
   }
 
  private:
@@ -210,9 +232,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
   }
 
   std::vector<ServoWallSettings> servo_;
-  std::vector<DemWall> placed_;              // the walls where Bind placed them
-  std::vector<double> wall_stress_pa_;       // total normal stress per wall at the last step
-  std::vector<double> effective_stress_pa_;  // its contacts' part
+  std::vector<DemWall> placed_;  // the walls where Bind placed them
 };
 
 }  // namespace

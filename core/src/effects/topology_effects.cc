@@ -158,11 +158,14 @@ class InjectionEffect final : public EffectWithSpec<InjectionEffectSpec> {
   }
   // After a breakthrough there is no well domain: the injected fluid leaves through the
   // fracture into the outer reservoir, which holds its pressure.
+  // The rate is the live scene's: a stage may shut the well in (0) or change the rate.
   Status Rebind(LiveState& s) override {
     if (s.net.well_domain < 0) return Status::Ok();
     ++s.counters.injection_updates;
-    return s.net.flow.SetSource(s.net.well_domain, spec_.rate_m2_s);
+    return s.net.flow.SetSource(s.net.well_domain,
+                                FindEffect<InjectionEffectSpec>(*s.scene)->rate_m2_s);
   }
+  Status Reconfigure(LiveState& s) override { return Rebind(s); }
 
   Status EndOfStep(LiveState& s, const StepInfo& info) override {
     if (!info.flow_update || s.net.well_domain < 0) return Status::Ok();

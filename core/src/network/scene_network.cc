@@ -340,6 +340,29 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   return ConnectSceneNetwork(scene, std::move(net));
 }
 
+void SetBoundaryPressures(const SceneSpec& scene, SceneNetwork* net) {
+  FlowNetwork& flow = net->flow;
+  const auto role = flow.role();
+  auto pressure = flow.mutable_pressure();
+  const auto set = [&](std::int32_t node, double value) {
+    if (node < 0 || static_cast<std::size_t>(node) >= flow.num_domains()) return;
+    if (role[static_cast<std::size_t>(node)] != DomainRole::kFixedPressure) return;
+    pressure[static_cast<std::size_t>(node)] = value;
+  };
+  if (const auto& radial = scene.boundary.radial) {
+    set(net->well_domain, radial->well_pressure_pa);  // only while it is a fixed-pressure well
+    set(net->outer_node, radial->outer_pressure_pa);
+  } else {
+    set(net->inlet_node, scene.boundary.inlet_pressure_pa);
+    set(net->outlet_node, scene.boundary.outlet_pressure_pa);
+  }
+  if (const auto* walls = FindEffect<WallsEffectSpec>(scene)) {
+    for (std::size_t w = 0; w < net->wall_node.size() && w < walls->walls.size(); ++w) {
+      if (const auto& drain = walls->walls[w].drain) set(net->wall_node[w], drain->pressure_pa);
+    }
+  }
+}
+
 Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net) {
   net.domains = DomainNetwork{};
   net.flow = FlowNetwork{};

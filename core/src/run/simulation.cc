@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "seep/core/log.h"
 
 namespace seep::core {
@@ -52,11 +54,23 @@ ParticleView Simulation::particles() const {
   return ViewOf(s.net.packing);
 }
 
+RunProgress Simulation::Progress() const {
+  RunProgress p;
+  p.step = step();
+  p.time_s = time_s();
+  p.fraction_done = stepper_->FractionDone();
+  const StageProgram& stages = stepper_->stages();
+  if (stages.active()) {
+    const std::uint32_t index = std::min(stages.state().index, stages.count() - 1);
+    p.stage_index = index + 1;
+    p.stage_count = stages.count();
+    p.stage_name = stages.Name(index);
+  }
+  return p;
+}
+
 Status Simulation::Run(const RunControl& control) {
-  const auto fraction = [&] {
-    return static_cast<double>(step()) / static_cast<double>(total_steps());
-  };
-  if (control.on_progress) control.on_progress({step(), time_s(), fraction()});
+  if (control.on_progress) control.on_progress(Progress());
   while (!finished()) {
     if (control.stop.stop_requested()) {
       return Cancelled(fmt::format("run stopped at step {} of {}", step(), total_steps()));
@@ -64,7 +78,7 @@ Status Simulation::Run(const RunControl& control) {
     SEEP_RETURN_IF_ERROR(stepper_->Step());
     if (control.at_step_end) control.at_step_end(*this);
     if (control.on_progress && (step() % stepper_->sample_every() == 0 || finished())) {
-      control.on_progress({step(), time_s(), fraction()});
+      control.on_progress(Progress());
     }
   }
   // A finished run's report must hold numbers only: a NaN here is a failed run, named.

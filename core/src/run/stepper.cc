@@ -60,6 +60,7 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   stepper->effects_ =
       MakeEffects(stepper->scene_.effects.empty() ? std::vector<EffectSpec>{FlowEffectSpec{}}
                                                   : stepper->scene_.effects);
+  stepper->program_ = StageProgram(scene);
   const std::vector<std::unique_ptr<Effect>>& all = stepper->effects_.all;
   stepper->effect_seconds_.assign(all.size(), 0.0);
   for (std::size_t k = 0; k < all.size(); ++k) {
@@ -73,6 +74,8 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   if (s.moves() && all[stepper->force_.front()].get() != stepper->effects_.contacts) {
     return Internal("step loop: the contacts effect must lead the force list");
   }
+  // The first stage's settings hold from the start (the servo's first targets included).
+  if (stepper->program_.active()) SEEP_RETURN_IF_ERROR(stepper->ApplyStageControls(0.0, true));
   SEEP_RETURN_IF_ERROR(stepper->SetClock());
   // The network's columns lead, as they did before effects existed (a frozen packing has only
   // them); the others follow in canonical order.
@@ -84,6 +87,8 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   for (const Effect* effect : stepper->sample_order_) {
     effect->AddSeriesColumns(s, &stepper->series_.columns);
   }
+  // Which stage each row belongs to (from 1): where it changes, a stage ended.
+  if (stepper->program_.active()) stepper->series_.columns.push_back("stage");
   if (s.moves()) SEEP_RETURN_IF_ERROR(stepper->InitialForces());
   stepper->Sample();  // the initial state is the first row
   return stepper;
@@ -112,7 +117,8 @@ Status Stepper::SetClock() {
     if (flow != nullptr)
       flow_every_ = flow->SetEverySteps(dt_, fluid_limited_dt_, solver.dt_factor);
   }
-  total_steps_ = StepsToEnd(solver.end_time_s, dt_);
+  total_steps_ = program_.active() ? std::max<std::uint64_t>(1, program_.EstimateSteps(dt_))
+                                   : StepsToEnd(solver.end_time_s, dt_);
   sample_every_ = solver.progress_every > 0
                       ? solver.progress_every
                       : std::max<std::uint64_t>(1, total_steps_ / kDefaultProgressReports);
@@ -201,6 +207,8 @@ Result<std::uint64_t> Stepper::ClockTotalSteps(const MechanicsSnapshot& clock,
         fmt::format("snapshot.mechanics.flow_every/fluid_limited_dt: ({}, {} s) must both be > 0",
                     clock.flow_every, clock.fluid_limited_dt));
   }
+  // With stages the end is not known in advance (Restore estimates it from the stages).
+  if (program_.active()) return step;
   return clock.clock_step + StepsToEnd(scene_.solver.end_time_s - clock.clock_time_s, clock.dt);
 }
 
@@ -209,7 +217,8 @@ bool Stepper::FluidIsASpring() const {
 }
 
 void Stepper::ShortenStepForTheFluid(const StepInfo& info) {
-  if (!state_.moves() || !FluidIsASpring() || info.step >= total_steps_) return;
+  if (!state_.moves() || !FluidIsASpring() || finished()) return;
+  if (!program_.active() && info.step >= total_steps_) return;
   const auto* contacts = FindEffect<ContactsEffectSpec>(scene_);
   const double fluid_dt = FluidStableStep(state_, contacts->dt_safety);
   const double dt = CombinedStep(contact_dt_, fluid_dt);
@@ -226,7 +235,44 @@ void Stepper::ShortenStepForTheFluid(const StepInfo& info) {
   if (effects_.flow != nullptr) {
     flow_every_ = effects_.flow->SetEverySteps(dt_, fluid_limited_dt_, scene_.solver.dt_factor);
   }
-  total_steps_ = clock_step_ + StepsToEnd(scene_.solver.end_time_s - clock_time_s_, dt_);
+  total_steps_ = program_.active()
+                     ? clock_step_ + program_.EstimateSteps(dt_)
+                     : clock_step_ + StepsToEnd(scene_.solver.end_time_s - clock_time_s_, dt_);
+}
+
+Status Stepper::ReconfigureAll() {
+  for (const auto& effect : effects_.all) SEEP_RETURN_IF_ERROR(effect->Reconfigure(state_));
+  return Status::Ok();
+}
+
+Status Stepper::ApplyStageControls(double stage_time_s, bool force) {
+  StageControls controls = program_.ControlsAt(stage_time_s);
+  if (!force && controls == applied_) return Status::Ok();
+  WriteControls(controls, &scene_);
+  applied_ = std::move(controls);
+  return ReconfigureAll();
+}
+
+void Stepper::EndStage(int ended_by) {
+  const std::uint32_t k = program_.state().index;
+  const Metrics at_end = MeasureRun();
+  const StageSpec& stage = scene_.stages[k];
+  Logger()->info(
+      "step {} (t = {} s): stage {}/{} '{}' ended ({})", step_, time_s_, k + 1, program_.count(),
+      program_.Name(k),
+      ended_by < 0 ? std::string("max_duration_s reached")
+                   : std::string(EndConditionName(stage.end[static_cast<std::size_t>(ended_by)])));
+  program_.Advance(at_end, ended_by, step_, time_s_);
+  // Flow intervals and time count from the stage's start (time = clock time + steps x dt).
+  clock_step_ = step_;
+  clock_time_s_ = time_s_;
+  if (!program_.done())
+    total_steps_ = step_ + std::max<std::uint64_t>(1, program_.EstimateSteps(dt_));
+}
+
+double Stepper::FractionDone() const {
+  if (program_.active()) return program_.FractionDone(step_, time_s_);
+  return static_cast<double>(step_) / static_cast<double>(total_steps_);
 }
 
 Status Stepper::RebindAll() {
@@ -250,18 +296,34 @@ Status Stepper::CheckParticlesFinite(std::uint64_t step) const {
 StepInfo Stepper::NextStep() const {
   StepInfo info;
   info.step = step_ + 1;
-  const bool last = info.step == total_steps_;
+  const bool staged = program_.active();
+  const bool last = !staged && info.step == total_steps_;
   if (state_.moves()) {
     // Steps and flow intervals count from where the current step began (step 0 unless a
     // re-detection shortened it): a run that never retunes keeps time = step x dt exactly.
     const std::uint64_t since = info.step - clock_step_;
     info.dt = dt_;
     info.time_s = clock_time_s_ + static_cast<double>(since) * dt_;
-    if (effects_.flow != nullptr && (since % flow_every_ == 0 || last)) {
+    // A stage that ends on a known bound ends on a flow update, which closes its books.
+    const bool bound = staged && program_.BoundReached(info.step, info.time_s, dt_);
+    if (effects_.flow != nullptr && (since % flow_every_ == 0 || last || bound)) {
       const std::uint64_t interval_start = (since - 1) / flow_every_ * flow_every_;
       info.flow_update = true;
       info.flow_dt = static_cast<double>(since - interval_start) * dt_;
     }
+    return info;
+  }
+  if (staged) {
+    // A stage with a duration ends exactly on it: its last step is the time left.
+    info.dt = dt_;
+    info.time_s = time_s_ + dt_;
+    const double end = program_.state().start_time_s + program_.TimeBound();
+    if (std::isfinite(end) && info.time_s >= end - 1e-6 * dt_) {
+      info.dt = std::min(end - time_s_, dt_);
+      info.time_s = end;
+    }
+    info.flow_update = true;
+    info.flow_dt = info.dt;
     return info;
   }
   // The last step lands on end_time_s: it is the time left, which the summed steps can make an
@@ -277,6 +339,10 @@ StepInfo Stepper::NextStep() const {
 
 Status Stepper::Step() {
   LiveState& s = state_;
+  // A stage's settings at the time this step starts from (a schedule moves them step by step).
+  if (program_.active()) {
+    SEEP_RETURN_IF_ERROR(ApplyStageControls(time_s_ - program_.state().start_time_s, false));
+  }
   const StepInfo info = NextStep();
   const bool moves = s.moves();
   Clock::time_point start = Clock::now();
@@ -318,6 +384,14 @@ Status Stepper::Step() {
   if (retune) ShortenStepForTheFluid(info);
   step_ = info.step;
   time_s_ = info.time_s;
+  if (program_.active()) {
+    step_stage_ = program_.state().index;
+    // Scenes with flow end a stage by a condition on flow updates only (its books close there).
+    const StageOutcome outcome =
+        program_.AfterStep(s, info, effects_.flow == nullptr || info.flow_update);
+    if (outcome.kind == StageOutcome::Kind::kFailed) return FailedPrecondition(outcome.message);
+    if (outcome.kind == StageOutcome::Kind::kEnded) EndStage(outcome.ended_by);
+  }
   if (step_ % sample_every_ == 0 || finished()) Sample();
   return Status::Ok();
 }
@@ -326,6 +400,7 @@ void Stepper::Sample() {
   latest_sample_.clear();
   latest_sample_.push_back(time_s_);
   for (const Effect* effect : sample_order_) effect->AddSample(state_, &latest_sample_);
+  if (program_.active()) latest_sample_.push_back(static_cast<double>(step_stage_ + 1));
   if (step_ % series_stride_ != 0 && !finished()) return;
   series_.values.insert(series_.values.end(), latest_sample_.begin(), latest_sample_.end());
   if (series_.rows() > kMaxSeriesRows) HalveSeries();
@@ -361,6 +436,12 @@ Status CheckMetricsFinite(const Metrics& metrics) {
 }
 
 Metrics Stepper::Measure() const {
+  Metrics m = MeasureRun();
+  program_.AddMetrics(&m);
+  return m;
+}
+
+Metrics Stepper::MeasureRun() const {
   Metrics m;
   for (const auto& effect : effects_.all) effect->AddMetrics(state_, &m);
   if (state_.moves()) {

@@ -114,6 +114,7 @@ SimulationSnapshot Stepper::TakeSnapshot() const {
   snap.ledger = state_.books.ledger;
   snap.series = series_;
   if (state_.moves()) SaveMechanics(&snap.mechanics.emplace());
+  if (program_.active()) snap.stages = program_.state();
   return snap;
 }
 
@@ -162,14 +163,34 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   if (!state_.moves() && snap.mechanics) {
     return DataLoss("snapshot.mechanics: present, but this scene's particles do not move");
   }
+  if (program_.active() != snap.stages.has_value()) {
+    return DataLoss(program_.active() ? "snapshot.stages: missing; this scene has stages"
+                                      : "snapshot.stages: present, but this scene has no stages");
+  }
   std::uint64_t total_steps = total_steps_;
   if (snap.mechanics && snap.mechanics->dt != 0.0) {
     SEEP_ASSIGN_OR_RETURN(total_steps, ClockTotalSteps(*snap.mechanics, snap.step));
   }
-  if (snap.step > total_steps) {
+  // A staged run has no last step known in advance (its stages end on conditions).
+  if (!program_.active() && snap.step > total_steps) {
     return DataLoss(
         fmt::format("snapshot.step: {} is past this scene's last step {}", snap.step, total_steps));
   }
+  // The stages first: the settings of the moment resumed at are the live scene's before the
+  // network is rebuilt from it and the effects re-bind (the injection rate, boundary pressures).
+  StageProgram program = program_;
+  StageControls controls = applied_;
+  if (snap.stages) {
+    SEEP_RETURN_IF_ERROR(program.Restore(*snap.stages, snap.step, snap.time_s));
+    controls = program.ControlsAt(snap.time_s - snap.stages->start_time_s);
+  }
+  const StageControls before = applied_;
+  WriteControls(controls, &scene_);
+  // On an error below the live scene goes back to what it was.
+  const auto undo = [&](Status status) {
+    WriteControls(before, &scene_);
+    return status;
+  };
   for (const auto& [field, value] :
        {std::pair{"step_mass_balance_error", snap.step_mass_balance_error},
         std::pair{"worst_mass_balance_error", snap.worst_mass_balance_error}}) {
@@ -183,9 +204,12 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     return DataLoss("snapshot.series: columns or row length differ from this scene's");
   }
   if (snap.mechanics) {
-    SEEP_RETURN_IF_ERROR(RestoreMechanics(*snap.mechanics, snap.pressure));
-  } else {
-    SEEP_RETURN_IF_ERROR(CheckPressures(snap.pressure, state_.net.flow.num_domains()));
+    if (Status status = RestoreMechanics(*snap.mechanics, snap.pressure); !status.ok()) {
+      return undo(status);
+    }
+  } else if (Status status = CheckPressures(snap.pressure, state_.net.flow.num_domains());
+             !status.ok()) {
+    return undo(status);
   }
   std::copy(snap.pressure.begin(), snap.pressure.end(), state_.net.flow.mutable_pressure().begin());
   if (snap.mechanics && snap.mechanics->dt != 0.0) {
@@ -197,6 +221,11 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     flow_every_ = m.flow_every;
     if (effects_.flow != nullptr) effects_.flow->set_every_steps(flow_every_);
     total_steps_ = total_steps;
+  }
+  if (snap.stages) {
+    program_ = std::move(program);
+    applied_ = std::move(controls);
+    total_steps_ = snap.step + std::max<std::uint64_t>(1, program_.EstimateSteps(dt_));
   }
   step_ = snap.step;
   time_s_ = snap.time_s;
@@ -210,6 +239,9 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     latest_sample_.assign(series_.values.end() - static_cast<std::ptrdiff_t>(width),
                           series_.values.end());
   }
+  // The stage's settings of this moment, taken up again (idempotent: the same values the run
+  // would apply at its next step); the fixed pressures over the snapshot's copies.
+  if (program_.active()) return ReconfigureAll();
   return Status::Ok();
 }
 

@@ -27,6 +27,7 @@ Status Prefixed(std::size_t index, const EffectSpec& spec, const Status& status)
 struct FieldValidator {
   std::size_t index;
   const EffectSpec& spec;
+  bool staged;  // the scene has stages (they may switch an effect's setting off and on)
 
   Status Bad(const char* field, const std::string& why) const {
     return InvalidArgument(fmt::format("{}: {}", Field(index, spec, field), why));
@@ -143,8 +144,11 @@ struct FieldValidator {
   Status operator()(const FlowEffectSpec&) const { return Status::Ok(); }
   Status operator()(const RedetectionEffectSpec&) const { return Status::Ok(); }
   Status operator()(const InjectionEffectSpec& i) const {
-    if (!PositiveFinite(i.rate_m2_s)) {
-      return Bad("rate_m2_s", fmt::format("must be a finite number > 0 (got {})", i.rate_m2_s));
+    // A staged scene may start shut in (rate 0) and have a stage open the well.
+    if (staged ? !(std::isfinite(i.rate_m2_s) && i.rate_m2_s >= 0.0)
+               : !PositiveFinite(i.rate_m2_s)) {
+      return Bad("rate_m2_s", fmt::format("must be a finite number {} 0 (got {})",
+                                          staged ? ">=" : ">", i.rate_m2_s));
     }
     return Status::Ok();
   }
@@ -173,7 +177,7 @@ Status ValidateEffects(const SceneSpec& scene) {
           fmt::format("{}: listed twice (each effect at most once)", Field(k, e, "")));
     }
     listed[e.index()] = true;
-    SEEP_RETURN_IF_ERROR(std::visit(FieldValidator{k, e}, e));
+    SEEP_RETURN_IF_ERROR(std::visit(FieldValidator{k, e, !scene.stages.empty()}, e));
   }
   const bool mechanics = HasMechanics(scene);
   const bool flow = HasFlow(scene);

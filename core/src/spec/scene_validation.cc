@@ -193,7 +193,10 @@ Status ValidateScene(const SceneSpec& scene) {
   }
   if (scene.solver.kind != SolverKind::kSteady) {
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
-    SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));
+    // With stages each stage ends on its own (ValidateStages requires end_time_s = 0).
+    if (scene.stages.empty()) {
+      SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));
+    }
     if (scene.solver.kind == SolverKind::kExplicit && scene.solver.dt_factor > 1.0) {
       return InvalidArgument(fmt::format(
           "scene.solver.dt_factor: the explicit solver is unstable above the critical step; use a "
@@ -216,7 +219,8 @@ Status ValidateScene(const SceneSpec& scene) {
           "only a scene with a walls effect can leave both unset (the walls then bound the fluid)");
     }
   }
-  return ValidateEffects(scene);
+  SEEP_RETURN_IF_ERROR(ValidateEffects(scene));
+  return ValidateStages(scene);
 }
 
 }  // namespace seep::core

@@ -67,6 +67,10 @@ class Effect {
   // After a restore replaced the state (or a re-detection replaced the network): refresh the
   // caches that depend on it.
   virtual Status Rebind(LiveState& /*state*/) { return Status::Ok(); }
+  // The settings a stage controls changed in *state.scene (a stage began, or a schedule moved;
+  // run/stage_program.h): take them up. Must be idempotent — setting the same values twice leaves
+  // the state as once — since a restore re-applies the settings of the moment it resumes at.
+  virtual Status Reconfigure(LiveState& /*state*/) { return Status::Ok(); }
   virtual Status AddForces(LiveState& /*state*/, const StepInfo& /*info*/) { return Status::Ok(); }
   virtual Status PostForce(LiveState& /*state*/, const StepInfo& /*info*/) { return Status::Ok(); }
   virtual Status EndOfStep(LiveState& /*state*/, const StepInfo& /*info*/) { return Status::Ok(); }

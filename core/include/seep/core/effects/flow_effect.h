@@ -39,6 +39,8 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
   Status Rebind(LiveState& s) override;
+  // A stage changed a boundary pressure: the fixed nodes take the live scene's values.
+  Status Reconfigure(LiveState& s) override;
   Status EndOfStep(LiveState& s, const StepInfo& info) override;
 
   void SaveTo(EffectStates* out) const override { out->flow = state_; }

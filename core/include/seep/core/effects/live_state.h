@@ -44,6 +44,8 @@ struct FluidBooks {
 };
 
 struct LiveState {
+  // The scene as it stands now: a scene with stages has the current stage's settings written into
+  // it (run/stage_program.h), and effects re-read those in Effect::Reconfigure.
   const SceneSpec* scene = nullptr;
   // The run's storage model (RunStorage: the scene's volume and factor, the floor from the
   // network at set-up); every effect that weighs fluid uses this one.
@@ -62,6 +64,11 @@ struct LiveState {
   // sealed pores oppose to its motion, sum K_f l^2 / V_s over them (the servo's gain needs it).
   std::vector<double> wall_pore_force;
   std::vector<double> wall_fluid_stiffness;
+  // Per wall, its normal stress at the last step (the walls effect writes them; its report and the
+  // stages' servo_held condition read them): total (contacts + pore pressure) and the contacts'
+  // part alone (effective), Pa.
+  std::vector<double> wall_stress_pa;
+  std::vector<double> wall_effective_stress_pa;
   std::optional<DemContactForces> contacts;
   FluidBooks books;
   EffectCounters counters;

@@ -116,6 +116,11 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene);
 // everything else is rebuilt. Same checks and messages as the build.
 Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork net);
 
+// Sets the fixed-pressure nodes of `net` (inlet, outlet, a well at fixed pressure, the outer
+// reservoir, drained walls' platens) to the pressures `scene` gives them now, as the build did:
+// what a stage that changes a boundary pressure needs between re-detections.
+void SetBoundaryPressures(const SceneSpec& scene, SceneNetwork* net);
+
 // The storage model of a run on `flow`, the network at set-up: the scene's volume and factor, and
 // the floor storage_floor_fraction x the mean factor x V of its free and source domains (fixed
 // for the run, so a resumed run uses the same).

@@ -33,6 +33,10 @@ struct RunProgress {
   std::uint64_t step = 0;
   double time_s = 0.0;         // simulated time
   double fraction_done = 0.0;  // 0..1
+  // A scene with stages: the current stage, from 1 (0: the scene has none), of stage_count.
+  std::uint32_t stage_index = 0;
+  std::uint32_t stage_count = 0;
+  std::string stage_name;
 };
 
 struct RunControl {
@@ -83,7 +87,10 @@ class Simulation {
   bool finished() const { return stepper_->finished(); }
   std::uint64_t step() const { return stepper_->step(); }
   double time_s() const { return stepper_->time_s(); }
+  // The last step; with stages an estimate from their bounds (conditions may end them sooner).
   std::uint64_t total_steps() const { return stepper_->total_steps(); }
+  // Where the run stands: step, time, fraction done and, with stages, the current stage.
+  RunProgress Progress() const;
   double dt_s() const { return stepper_->dt(); }  // 0 for a steady scene
   const SceneSpec& scene() const { return stepper_->scene(); }
   // The current network (for moving scenes: of the last re-detection; its packing holds the

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "seep/core/dem/dem_contact_state.h"
@@ -63,6 +64,20 @@ struct MechanicsSnapshot {
   EffectStates effects;
 };
 
+// Where a staged run stands (scene.stages, run/stage_program.h): the current stage, where it
+// began, what its end conditions have tracked so far, and the metrics of the stages that ended.
+struct StageRunState {
+  std::uint32_t index = 0;       // the current stage, 0-based (the stage count once all have ended)
+  std::uint64_t start_step = 0;  // the step and time the current stage began at
+  double start_time_s = 0.0;
+  std::uint64_t bonds_broken = 0;      // bonds broken since it began
+  double peak_kinetic_energy_j = 0.0;  // the largest kinetic energy since it began, J per m
+  std::optional<double> peak_well_pressure_pa;  // the well's peak since it began (unset: none yet)
+  double held_since_s = -1.0;  // stage time since which every servo wall holds its target; -1: not
+  // The metrics of the ended stages, "stage<k>_<metric>" (k from 1), sorted by name.
+  std::vector<std::pair<std::string, double>> ended_metrics;
+};
+
 struct SimulationSnapshot {
   std::uint64_t step = 0;        // steps completed
   double time_s = 0.0;           // simulated time reached
@@ -75,6 +90,7 @@ struct SimulationSnapshot {
   std::optional<FluidLedger> ledger;
   TimeSeries series;
   std::optional<MechanicsSnapshot> mechanics;  // scenes with the contacts effect only
+  std::optional<StageRunState> stages;         // scenes with stages only
 };
 
 }  // namespace seep::core

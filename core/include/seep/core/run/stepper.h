@@ -41,6 +41,7 @@
 #include "seep/core/effects/effect_set.h"
 #include "seep/core/effects/live_state.h"
 #include "seep/core/run/simulation_snapshot.h"
+#include "seep/core/run/stage_program.h"
 
 namespace seep::core {
 
@@ -56,13 +57,20 @@ class Stepper {
   // Takes the next step.
   Status Step();
 
-  bool finished() const { return step_ >= total_steps_; }
+  // A scene with stages finishes when its last stage ends; another at its last step.
+  bool finished() const { return program_.active() ? program_.done() : step_ >= total_steps_; }
+  // 0..1 (with stages: the stages ended plus the current one's share of its bound).
+  double FractionDone() const;
   std::uint64_t step() const { return step_; }
   double time_s() const { return time_s_; }
+  // The last step; with stages an estimate (the stages' bounds), since conditions end them.
   std::uint64_t total_steps() const { return total_steps_; }
+  // The scene's stages and where the run stands in them (inactive without stages).
+  const StageProgram& stages() const { return program_; }
   std::uint64_t sample_every() const { return sample_every_; }
   double dt() const { return dt_; }  // 0 for a steady scene
   std::uint64_t flow_every() const { return flow_every_; }
+  // The scene as it stands now: with stages, the current stage's settings written in.
   const SceneSpec& scene() const { return scene_; }
   const LiveState& state() const { return state_; }
   const TimeSeries& series() const { return series_; }
@@ -96,6 +104,15 @@ class Stepper {
   explicit Stepper(const SceneSpec& scene);
   Status SetClock();
   Status RebindAll();
+  // With stages: writes the current stage's settings at stage time t into the live scene and has
+  // the effects take them up, if they differ from the last applied (or `force`).
+  Status ApplyStageControls(double stage_time_s, bool force);
+  Status ReconfigureAll();
+  // The current stage ended after this step (by end condition `ended_by`, -1: max duration):
+  // records its metrics and starts the next; the clock's intervals restart from here.
+  void EndStage(int ended_by);
+  // The effects' and the clock's measurements, without the ended stages' metrics.
+  Metrics MeasureRun() const;
   // Pressure follows deformation and pushes the particles: the fluid is a spring the DEM step
   // must resolve.
   bool FluidIsASpring() const;
@@ -118,8 +135,11 @@ class Stepper {
   void SaveMechanics(MechanicsSnapshot* out) const;
   Status RestoreMechanics(const MechanicsSnapshot& snap, const std::vector<double>& pressure);
 
-  SceneSpec scene_;
+  SceneSpec scene_;  // live: a stage's settings are written into it
   LiveState state_;
+  StageProgram program_;
+  StageControls applied_;         // the stage settings last written into scene_
+  std::uint32_t step_stage_ = 0;  // the stage the last step belonged to (the series' column)
   EffectSet effects_;
   // Hook lists hold indices into effects_.all (so each call can be timed against its effect).
   std::vector<std::size_t> force_, post_force_, end_of_step_;

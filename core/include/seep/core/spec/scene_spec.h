@@ -13,6 +13,7 @@
 
 #include "seep/core/flow/fluid.h"
 #include "seep/core/spec/effect_spec.h"
+#include "seep/core/spec/stage_spec.h"
 #include "seep/core/status.h"
 
 namespace seep::core {
@@ -134,6 +135,9 @@ struct SceneSpec {
   SolverSpec solver;
   // The physics switched on (effect_spec.h); empty = flow on a frozen packing.
   std::vector<EffectSpec> effects;
+  // The experiment's stages, run in order (stage_spec.h); empty = one stage from t = 0 to
+  // solver.end_time_s. With stages solver.end_time_s stays 0: each stage ends on its own.
+  std::vector<StageSpec> stages;
 };
 
 // Whether the scene lists an effect of type T.
@@ -176,6 +180,11 @@ inline StorageModel SceneStorage(const SceneSpec& scene) {
 // `contacts` and `flow`; a moving scene needs a transient solver. Messages name the list entry:
 // "scene.effects[2].gravity: requires the contacts effect (the particles do not move without it)".
 Status ValidateEffects(const SceneSpec& scene);
+
+// The stages (stage_validation.cc): each setting against the effects and boundary it changes,
+// each end condition against the effect it watches ("scene.stages[1].end[0].bonds_broken: the
+// scene does not list the bonds effect"), every stage bounded, and solver.end_time_s unset.
+Status ValidateStages(const SceneSpec& scene);
 
 // Checks every field against its physical range. The first violation is returned; its message
 // starts with the field path.
