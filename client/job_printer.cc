@@ -17,6 +17,13 @@ std::string FormatTime(const google::protobuf::Timestamp& t) {
 
 }  // namespace
 
+std::string FormatStage(const v1::Progress& progress) {
+  if (progress.stage_count() == 0) return "";
+  std::string out = fmt::format("{}/{}", progress.stage_index(), progress.stage_count());
+  if (!progress.stage_name().empty()) out += " " + progress.stage_name();
+  return out;
+}
+
 std::string StateName(v1::JobState state) {
   std::string name = v1::JobState_Name(state);
   const std::string prefix = "JOB_STATE_";
@@ -36,6 +43,9 @@ std::string FormatJob(const v1::Job& job) {
   } else {
     out += fmt::format("progress  step {}, t = {:.6g} s, {:.1f}%\n", job.progress().step(),
                        job.progress().time_s(), 100.0 * job.progress().fraction_done());
+  }
+  if (const std::string stage = FormatStage(job.progress()); !stage.empty()) {
+    out += fmt::format("stage     {}\n", stage);
   }
   out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
   if (job.priority() != 0) out += fmt::format("priority  {}\n", job.priority());
@@ -94,6 +104,7 @@ std::string FormatProgress(const v1::Job& job) {
   }
   std::string line = fmt::format("{:<9} step {:>9}  t = {:<11.5g} {:5.1f}%", StateName(job.state()),
                                  p.step(), p.time_s(), 100.0 * p.fraction_done());
+  if (const std::string stage = FormatStage(p); !stage.empty()) line += "  stage " + stage;
   if (p.eta_s() > 0.0) line += fmt::format("  ETA {:.1f} s", p.eta_s());
   // Key figures of the newest sample, when the server sends them (a running simulation).
   for (const char* key : {"inflow_m2_per_s", "outflow_m2_per_s", "well_flow_rate_m2_per_s",
@@ -122,6 +133,8 @@ std::string FormatProgressBar(const v1::Job& job, int columns) {
       fmt::format("{:<9} [{}{}] {:5.1f}%", StateName(job.state()),
                   std::string(static_cast<std::size_t>(filled), '#'),
                   std::string(static_cast<std::size_t>(kBarWidth - filled), '.'), 100.0 * fraction);
+  // Before step and time: the line is cut at the terminal's width, and the stage matters more.
+  if (const std::string stage = FormatStage(p); !stage.empty()) line += "  stage " + stage;
   if (job.kind() == v1::JOB_KIND_CALIBRATION) {
     line += fmt::format("  solves {}", p.step());
   } else {

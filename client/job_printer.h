@@ -11,9 +11,12 @@ std::string StateName(v1::JobState state);  // "RUNNING"
 std::string FormatJob(const v1::Job& job);  // multi-line summary with the result metrics
 std::string FormatJobRow(const v1::Job& job);
 std::string FormatJobTableHeader();
-std::string FormatProgress(const v1::Job& job);  // one line: state, step, time, %, ETA
-// The live line of `seep watch` on a terminal: state, a bar, percent, step, simulated time, ETA
-// and the key metrics of the newest sample, cut to `columns` characters so that a carriage
+std::string FormatProgress(const v1::Job& job);  // one line: state, step, time, %, stage, ETA
+// "2/3 inject": the current stage from 1, the stage count and the stage's name; "" for a scene
+// without stages.
+std::string FormatStage(const v1::Progress& progress);
+// The live line of `seep watch` on a terminal: state, a bar, percent, stage, step, simulated time,
+// ETA and the key metrics of the newest sample, cut to `columns` characters so that a carriage
 // return redraws it in place (a wrapped line could not be redrawn).
 std::string FormatProgressBar(const v1::Job& job, int columns);
 std::string FormatDuration(double seconds);             // "42 s", "3m05s", "2h07m"

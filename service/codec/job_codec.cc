@@ -78,6 +78,9 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   progress->set_time_s(job.progress.time_s);
   progress->set_fraction_done(job.progress.fraction_done);
   progress->set_eta_s(job.progress.eta_s);
+  progress->set_stage_index(job.progress.stage_index);
+  progress->set_stage_count(job.progress.stage_count);
+  progress->set_stage_name(job.progress.stage_name);
   for (const auto& [name, value] : job.progress.latest) (*progress->mutable_latest())[name] = value;
   if (!job.error_code.empty()) {
     out->mutable_error()->set_code(job.error_code);

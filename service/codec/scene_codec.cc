@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "codec/effect_codec.h"
+#include "codec/stage_codec.h"
 #include "codec/state_size_estimate.h"
 
 namespace seep::service {
@@ -199,6 +200,10 @@ Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
   for (int k = 0; k < scene.effects_size(); ++k) {
     SEEP_RETURN_IF_ERROR(
         AppendEffectFromProto(scene.effects(k), static_cast<std::size_t>(k), &spec.effects));
+  }
+  for (int k = 0; k < scene.stages_size(); ++k) {
+    SEEP_RETURN_IF_ERROR(
+        AppendStageFromProto(scene.stages(k), static_cast<std::size_t>(k), &spec.stages));
   }
   return spec;
 }

@@ -4,9 +4,67 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "codec/mechanics_state_codec.h"
 
 namespace seep::service {
+namespace {
+
+void StageRunStateToProto(const core::StageRunState& state, v1::StageRunState* out) {
+  out->set_index(state.index);
+  out->set_start_step(state.start_step);
+  out->set_start_time_s(state.start_time_s);
+  out->set_bonds_broken(state.bonds_broken);
+  out->set_peak_kinetic_energy_j(state.peak_kinetic_energy_j);
+  if (state.peak_well_pressure_pa) out->set_peak_well_pressure_pa(*state.peak_well_pressure_pa);
+  out->set_held_since_s(state.held_since_s);
+  for (const auto& [name, value] : state.ended_metrics) {
+    (*out->mutable_ended_metrics())[name] = value;
+  }
+}
+
+// The numbers a stage's end conditions compare against: a damaged one would end a stage at the
+// wrong step, so it is refused here rather than run with.
+core::Result<core::StageRunState> StageRunStateFromProto(const v1::StageRunState& state) {
+  core::StageRunState out;
+  out.index = state.index();
+  out.start_step = state.start_step();
+  out.start_time_s = state.start_time_s();
+  if (!std::isfinite(out.start_time_s) || out.start_time_s < 0.0) {
+    return core::DataLoss(fmt::format(
+        "state.stages.start_time_s: must be a finite time >= 0 (got {})", out.start_time_s));
+  }
+  out.bonds_broken = state.bonds_broken();
+  out.peak_kinetic_energy_j = state.peak_kinetic_energy_j();
+  if (!std::isfinite(out.peak_kinetic_energy_j) || out.peak_kinetic_energy_j < 0.0) {
+    return core::DataLoss(
+        fmt::format("state.stages.peak_kinetic_energy_j: must be a finite energy >= 0 (got {})",
+                    out.peak_kinetic_energy_j));
+  }
+  if (state.has_peak_well_pressure_pa()) {
+    if (!std::isfinite(state.peak_well_pressure_pa())) {
+      return core::DataLoss(
+          fmt::format("state.stages.peak_well_pressure_pa: must be finite (got {})",
+                      state.peak_well_pressure_pa()));
+    }
+    out.peak_well_pressure_pa = state.peak_well_pressure_pa();
+  }
+  out.held_since_s = state.held_since_s();
+  if (out.held_since_s != -1.0 && !(std::isfinite(out.held_since_s) && out.held_since_s >= 0.0)) {
+    return core::DataLoss(
+        fmt::format("state.stages.held_since_s: must be -1 (not held) or a finite time >= 0 "
+                    "(got {})",
+                    out.held_since_s));
+  }
+  // core keeps them sorted by name; a protobuf map has no order.
+  out.ended_metrics.assign(state.ended_metrics().begin(), state.ended_metrics().end());
+  std::sort(out.ended_metrics.begin(), out.ended_metrics.end());
+  return out;
+}
+
+}  // namespace
 
 void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::SimulationState* out) {
   out->Clear();
@@ -29,6 +87,7 @@ void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::Simula
   for (const auto& c : snapshot.series.columns) series->add_columns(c);
   series->mutable_values()->Assign(snapshot.series.values.begin(), snapshot.series.values.end());
   if (snapshot.mechanics) MechanicsStateToProto(*snapshot.mechanics, out->mutable_mechanics());
+  if (snapshot.stages) StageRunStateToProto(*snapshot.stages, out->mutable_stages());
 }
 
 core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::SimulationState& state) {
@@ -52,6 +111,9 @@ core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::Simula
   snap.series.columns.assign(state.series().columns().begin(), state.series().columns().end());
   snap.series.values.assign(state.series().values().begin(), state.series().values().end());
   if (state.has_mechanics()) snap.mechanics = MechanicsStateFromProto(state.mechanics());
+  if (state.has_stages()) {
+    SEEP_ASSIGN_OR_RETURN(snap.stages, StageRunStateFromProto(state.stages()));
+  }
   const std::size_t columns = snap.series.columns.size();
   if ((columns == 0 && !snap.series.values.empty()) ||
       (columns > 0 && snap.series.values.size() % columns != 0)) {

@@ -10,8 +10,8 @@
 namespace seep::service {
 
 void SimulationStateToProto(const core::SimulationSnapshot& snapshot, v1::SimulationState* out);
-// Wire checks only (series row length); whether the state fits the scene is
-// core::Simulation::Restore's check.
+// Wire checks only (series row length; a staged run's times and peaks finite, DATA_LOSS naming
+// the field); whether the state fits the scene is core::Simulation::Restore's check.
 core::Result<core::SimulationSnapshot> SimulationStateFromProto(const v1::SimulationState& state);
 
 // Deterministic bytes of a snapshot (same snapshot and build -> same bytes), for checkpoint

@@ -22,6 +22,16 @@ namespace {
 // Where --test-stall-job hangs a run and --test-crash-job ends the process: this many steps
 // into the claim.
 constexpr std::uint64_t kTestStallStep = 1500;
+
+// The store's form of where a run stands, its stage included.
+JobProgress ProgressOf(const core::RunProgress& p, double eta_s) {
+  JobProgress progress = JobProgress::At(p.step, p.time_s, p.fraction_done, eta_s);
+  progress.stage_index = p.stage_index;
+  progress.stage_count = p.stage_count;
+  progress.stage_name = p.stage_name;
+  return progress;
+}
+
 }  // namespace
 
 JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
@@ -271,6 +281,8 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
         keeper.enabled() ? keeper.RestoreNewest(*sim).value_or(0) : 0;
     ++running.ticks;
     keeper.StartClock();
+    // The ETA counts only the part run in this attempt.
+    const double start_fraction = sim->Progress().fraction_done;
     core::RunControl control;
     control.stop = running.stop.get_token();
     control.logger = log;
@@ -278,13 +290,9 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
       const double elapsed =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - running.wall_start)
               .count();
-      // The ETA counts only the part run in this attempt.
-      const double start_fraction =
-          static_cast<double>(resumed_from) / static_cast<double>(sim->total_steps());
       const double done_here = p.fraction_done - start_fraction;
       JobProgress progress =
-          JobProgress::At(p.step, p.time_s, p.fraction_done,
-                          done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0);
+          ProgressOf(p, done_here > 0.0 ? elapsed * (1.0 - p.fraction_done) / done_here : 0.0);
       const std::vector<std::string>& columns = sim->series().columns;
       const std::vector<double>& latest = sim->latest_sample();
       for (std::size_t c = 1; c < latest.size() && c < columns.size(); ++c) {
@@ -319,10 +327,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     }
     // Where the run ended, for every outcome (the periodic progress write may be a second old).
     if (sim && !(outcome.ok() && sim->finished())) {
-      const double fraction =
-          static_cast<double>(sim->step()) / static_cast<double>(sim->total_steps());
-      if (auto s = store_.UpdateProgress(
-              job.id, running.epoch, JobProgress::At(sim->step(), sim->time_s(), fraction, 0.0));
+      if (auto s = store_.UpdateProgress(job.id, running.epoch, ProgressOf(sim->Progress(), 0.0));
           !s.ok()) {
         log->warn("last progress not stored: {}", s.ToString());
       }
@@ -341,9 +346,12 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     // Serialized once: the final checkpoint holds the very bytes the result's hash covers.
     const std::string state = SerializeSimulationState(sim->TakeSnapshot());
     (void)keeper.Write(*sim, state);  // the final state, for exports and later jobs
-    if (auto s = store_.UpdateProgress(job.id, running.epoch,
-                                       JobProgress::At(report.steps, report.time_s, 1.0, 0.0));
-        !s.ok()) {
+    // Done, in the last stage (its name stays for seep show).
+    core::RunProgress done = sim->Progress();
+    done.step = report.steps;
+    done.time_s = report.time_s;
+    done.fraction_done = 1.0;
+    if (auto s = store_.UpdateProgress(job.id, running.epoch, ProgressOf(done, 0.0)); !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
     const std::string state_sha256 = HexSha256(state);

@@ -30,6 +30,10 @@ struct JobProgress {
   double time_s = 0.0;
   double fraction_done = 0.0;
   double eta_s = 0.0;
+  // A scene with stages: the current stage, from 1 (0: the scene has none), of stage_count.
+  std::uint32_t stage_index = 0;
+  std::uint32_t stage_count = 0;
+  std::string stage_name;
   // The newest sample of the run's time series by column name (boundary rates, pressure range,
   // mass-balance error): live progress only, never stored.
   std::vector<std::pair<std::string, double>> latest;

@@ -193,6 +193,13 @@ CREATE TABLE sweep_jobs (
   PRIMARY KEY (sweep_id, position)
 ) STRICT;
 )sql",
+    // v10: the stage a staged run is in (1-based, 0 = the scene has no stages), of how many, and
+    // its name, kept with the progress so that `seep show` names it after the run.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN stage_index INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN stage_count INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN stage_name TEXT NOT NULL DEFAULT '';
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -204,8 +211,9 @@ static_assert(kMigrationCount == JobStore::kSchemaVersion);
 constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
-    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority";
-constexpr int kSceneColumn = 22;  // after kJobColumns
+    "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority, "
+    "stage_index, stage_count, stage_name";
+constexpr int kSceneColumn = 25;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -230,6 +238,9 @@ JobRecord ReadJobRow(const Stmt& s) {
   if (!s.ColumnIsNull(19)) job.lease_expires_at_ms = s.ColumnInt(19);
   job.kind = ParseJobKind(s.ColumnText(20)).value_or(JobKind::kSimulation);
   job.priority = static_cast<std::int32_t>(s.ColumnInt(21));
+  job.progress.stage_index = static_cast<std::uint32_t>(s.ColumnInt(22));
+  job.progress.stage_count = static_cast<std::uint32_t>(s.ColumnInt(23));
+  job.progress.stage_name = s.ColumnText(24);
   return job;
 }
 
@@ -533,13 +544,16 @@ Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("UPDATE jobs SET step = ?, time_s = ?, fraction_done = "
-                                     "? WHERE id = ? AND lease_epoch = ? AND state = "
-                                     "'RUNNING'"));
+                                     "?, stage_index = ?, stage_count = ?, stage_name = ? WHERE "
+                                     "id = ? AND lease_epoch = ? AND state = 'RUNNING'"));
   s.Bind(1, static_cast<std::int64_t>(progress.step))
       .Bind(2, progress.time_s)
       .Bind(3, progress.fraction_done)
-      .Bind(4, std::string_view(id))
-      .Bind(5, epoch);
+      .Bind(4, static_cast<std::int64_t>(progress.stage_index))
+      .Bind(5, static_cast<std::int64_t>(progress.stage_count))
+      .Bind(6, std::string_view(progress.stage_name))
+      .Bind(7, std::string_view(id))
+      .Bind(8, epoch);
   SEEP_RETURN_IF_ERROR(s.Run());
   if (db_->Changes() != 1) return LeaseLost(id, epoch);
   return Status::Ok();
@@ -632,7 +646,8 @@ Result<JobRecord> JobStore::Resume(const std::string& id) {
       db_->Prepare(
           "UPDATE jobs SET state = 'QUEUED', attempt = attempt + 1, "
           "cancel_requested = 0, started_at_ms = NULL, finished_at_ms = NULL, "
-          "step = 0, time_s = 0, fraction_done = 0, error_code = '', "
+          "step = 0, time_s = 0, fraction_done = 0, stage_index = 0, stage_count = 0, "
+          "stage_name = '', error_code = '', "
           "error_message = '', wall_time_s = 0, lease_owner = NULL, "
           "lease_expires_at_ms = NULL, interruptions = 0, interrupted_at_step = -1 WHERE id = ?"));
   s.Bind(1, std::string_view(id));
@@ -717,7 +732,8 @@ Result<std::vector<std::string>> JobStore::RequeueLocked(
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare(fmt::format(
                   "UPDATE jobs SET state = 'QUEUED', step = 0, time_s = 0, fraction_done = 0, "
-                  "lease_owner = NULL, lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {} "
+                  "stage_index = 0, stage_count = 0, stage_name = '', lease_owner = NULL, "
+                  "lease_expires_at_ms = NULL WHERE state = 'RUNNING' AND {} "
                   "RETURNING id",
                   where)));
   bind(s, 1);

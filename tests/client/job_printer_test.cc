@@ -1,4 +1,5 @@
-// How `seep watch` draws progress: the one-line bar for terminals and the durations in it.
+// How `seep watch` draws progress: the one-line bar for terminals and the durations in it, and
+// the stage of a staged run in the bar, the plain lines and `seep show`.
 #include "job_printer.h"
 
 #include <gtest/gtest.h>
@@ -67,6 +68,48 @@ TEST(JobSummary, ShowsLabelsSortedByKeyAndAnEventAsOneLine) {
   EXPECT_EQ(FormatJobEvent(event),
             "2023-11-14T22:13:20Z      RESUMED               from ckpt-000000001000.bin at step "
             "1000 of 4000");
+}
+
+v1::Job StagedJob() {
+  v1::Job job = RunningJob(0.5);
+  job.mutable_progress()->set_stage_index(2);
+  job.mutable_progress()->set_stage_count(3);
+  job.mutable_progress()->set_stage_name("inject");
+  return job;
+}
+
+// The stage comes right after the percentage, before what a narrow terminal cuts off.
+TEST(StageDisplay, BarShowsTheStageBeforeStepAndTime) {
+  const std::string line = FormatProgressBar(StagedJob(), 200);
+  EXPECT_NE(line.find("RUNNING   [############............]  50.0%  stage 2/3 inject  step 1234"),
+            std::string::npos)
+      << line;
+  EXPECT_NE(FormatProgressBar(StagedJob(), 80).find("stage 2/3 inject"), std::string::npos);
+}
+
+TEST(StageDisplay, PlainLineShowsTheStageAfterThePercentage) {
+  const std::string line = FormatProgress(StagedJob());
+  EXPECT_NE(line.find(" 50.0%  stage 2/3 inject  ETA 125.0 s"), std::string::npos) << line;
+}
+
+TEST(StageDisplay, ShowHasAStageLineAfterProgress) {
+  const std::string summary = FormatJob(StagedJob());
+  EXPECT_NE(summary.find("%\nstage     2/3 inject\nbuild"), std::string::npos) << summary;
+}
+
+// An unnamed stage shows its number alone; a scene without stages shows nothing new.
+TEST(StageDisplay, UnnamedStageAndSceneWithoutStages) {
+  v1::Job unnamed = StagedJob();
+  unnamed.mutable_progress()->clear_stage_name();
+  EXPECT_EQ(FormatStage(unnamed.progress()), "2/3");
+  EXPECT_NE(FormatProgress(unnamed).find("  stage 2/3  ETA"), std::string::npos)
+      << FormatProgress(unnamed);
+  const v1::Job plain = RunningJob(0.5);
+  EXPECT_EQ(FormatStage(plain.progress()), "");
+  for (const std::string& text :
+       {FormatProgressBar(plain, 200), FormatProgress(plain), FormatJob(plain)}) {
+    EXPECT_EQ(text.find("stage"), std::string::npos) << text;
+  }
 }
 
 TEST(Duration, SecondsMinutesHours) {

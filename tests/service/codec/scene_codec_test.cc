@@ -7,9 +7,12 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "bad_scenes.h"
 #include "codec/state_size_estimate.h"
@@ -91,6 +94,116 @@ TEST(SceneCodec, ConvertsSegmentAndVelocityControlledWalls) {
   EXPECT_EQ(walls[1].servo_stress_pa, 1e5);
   EXPECT_EQ(core::WallName(walls[0], 0), "segment0");
   EXPECT_EQ(core::WallName(walls[1], 1), "top");
+}
+
+// Two stages through the codec: settings given as a constant or a schedule, settings left unset,
+// every wall mode (fixed: false counting as unset) and every kind of end condition. DecodeScene
+// only: what the values mean is core's validation.
+TEST(SceneCodec, ConvertsStages) {
+  v1::Scene scene = ValidScene();
+  ASSERT_TRUE(google::protobuf::TextFormat::MergeFromString(
+      R"pb(
+        stages {
+          name: "confine"
+          local_damping_alpha: 0.7
+          walls {
+            wall: 0
+            servo_stress_pa { value: 1e6 }
+          }
+          walls {
+            wall: 1
+            normal_velocity_m_s {
+              schedule {
+                time_s: [ 0, 0.5 ]
+                value: [ 0, -0.01 ]
+              }
+            }
+            drain_pressure_pa { value: 2e5 }
+          }
+          walls { wall: 2 fixed: true }
+          walls { wall: 3 fixed: false }
+          end { servo_held { tolerance_fraction: 0.02 hold_s: 1e-3 } }
+          end { kinetic_energy_ratio: 1e-4 }
+          end { steps: 50000 }
+          max_duration_s: 2
+          continue_at_max_duration: true
+        }
+        stages {
+          name: "inject"
+          injection_rate_m2_s {
+            schedule {
+              time_s: [ 0, 1, 2 ]
+              value: [ 0, 1e-5, 2e-5 ]
+            }
+          }
+          inlet_pressure_pa { value: 3e5 }
+          outlet_pressure_pa { value: 0 }
+          end { duration_s: 5 }
+          end { bonds_broken: 10 }
+          end { breakthrough: true }
+          end { well_pressure_past_peak: 0.3 }
+        }
+      )pb",
+      &scene));
+  auto spec = DecodeScene(scene);
+  ASSERT_TRUE(spec.ok()) << spec.status().ToString();
+  ASSERT_EQ(spec->stages.size(), 2u);
+
+  const core::StageSpec& confine = spec->stages[0];
+  EXPECT_EQ(confine.name, "confine");
+  EXPECT_EQ(confine.local_damping_alpha, std::optional<double>(0.7));
+  EXPECT_FALSE(confine.injection_rate_m2_s.has_value());
+  EXPECT_FALSE(confine.inlet_pressure_pa.has_value());
+  EXPECT_FALSE(confine.well_pressure_pa.has_value());
+  ASSERT_EQ(confine.walls.size(), 4u);
+  EXPECT_EQ(confine.walls[0].wall, 0u);
+  ASSERT_TRUE(confine.walls[0].servo_stress_pa.has_value());
+  EXPECT_EQ(std::get<double>(*confine.walls[0].servo_stress_pa), 1e6);
+  EXPECT_FALSE(confine.walls[0].normal_velocity_m_s.has_value());
+  EXPECT_FALSE(confine.walls[0].drain_pressure_pa.has_value());
+  ASSERT_TRUE(confine.walls[1].normal_velocity_m_s.has_value());
+  const auto& velocity = std::get<core::ScheduleSpec>(*confine.walls[1].normal_velocity_m_s);
+  EXPECT_EQ(velocity.time_s, (std::vector<double>{0.0, 0.5}));
+  EXPECT_EQ(velocity.value, (std::vector<double>{0.0, -0.01}));
+  ASSERT_TRUE(confine.walls[1].drain_pressure_pa.has_value());
+  EXPECT_EQ(std::get<double>(*confine.walls[1].drain_pressure_pa), 2e5);
+  EXPECT_TRUE(confine.walls[2].fixed);
+  EXPECT_EQ(confine.walls[3].wall, 3u);
+  EXPECT_FALSE(confine.walls[3].fixed);
+  EXPECT_FALSE(confine.walls[3].servo_stress_pa.has_value());
+  EXPECT_FALSE(confine.walls[3].normal_velocity_m_s.has_value());
+  ASSERT_EQ(confine.end.size(), 3u);
+  const auto& held = std::get<core::ServoHeldEnd>(confine.end[0]);
+  EXPECT_EQ(held.tolerance_fraction, 0.02);
+  EXPECT_EQ(held.hold_s, 1e-3);
+  EXPECT_EQ(std::get<core::KineticEnergyEnd>(confine.end[1]).ratio, 1e-4);
+  EXPECT_EQ(std::get<core::StepsEnd>(confine.end[2]).steps, 50000u);
+  EXPECT_EQ(confine.max_duration_s, 2.0);
+  EXPECT_TRUE(confine.continue_at_max_duration);
+
+  const core::StageSpec& inject = spec->stages[1];
+  EXPECT_EQ(inject.name, "inject");
+  EXPECT_FALSE(inject.local_damping_alpha.has_value());
+  ASSERT_TRUE(inject.injection_rate_m2_s.has_value());
+  const auto& rate = std::get<core::ScheduleSpec>(*inject.injection_rate_m2_s);
+  EXPECT_EQ(rate.time_s, (std::vector<double>{0.0, 1.0, 2.0}));
+  EXPECT_EQ(rate.value, (std::vector<double>{0.0, 1e-5, 2e-5}));
+  ASSERT_TRUE(inject.inlet_pressure_pa.has_value());
+  EXPECT_EQ(std::get<double>(*inject.inlet_pressure_pa), 3e5);
+  // A constant 0 given is a setting (to 0), not an unset one.
+  ASSERT_TRUE(inject.outlet_pressure_pa.has_value());
+  EXPECT_EQ(std::get<double>(*inject.outlet_pressure_pa), 0.0);
+  EXPECT_FALSE(inject.outer_pressure_pa.has_value());
+  EXPECT_TRUE(inject.walls.empty());
+  ASSERT_EQ(inject.end.size(), 4u);
+  EXPECT_EQ(std::get<core::DurationEnd>(inject.end[0]).duration_s, 5.0);
+  EXPECT_EQ(std::get<core::BondsBrokenEnd>(inject.end[1]).count, 10u);
+  EXPECT_TRUE(std::holds_alternative<core::BreakthroughEnd>(inject.end[2]));
+  EXPECT_EQ(std::get<core::WellPressurePastPeakEnd>(inject.end[3]).fraction, 0.3);
+  EXPECT_EQ(inject.max_duration_s, 0.0);
+  EXPECT_FALSE(inject.continue_at_max_duration);
+
+  EXPECT_TRUE(DecodeScene(ValidScene())->stages.empty());
 }
 
 // Turns the valid scene into a valid radial one.
@@ -254,6 +367,56 @@ INSTANTIATE_TEST_SUITE_P(
                                      kNaN);
                                },
                                "scene.boundary.radial.outer_pressure_pa:"}),
+    [](const ::testing::TestParamInfo<BadScene>& param_info) {
+      return std::string(param_info.param.name);
+    });
+
+// A stage whose end condition is a duration, to which a test adds what it gets wrong.
+v1::Stage* AddStage(v1::Scene& scene) {
+  v1::Stage* stage = scene.add_stages();
+  stage->set_name("s");
+  stage->add_end()->set_duration_s(1);
+  return stage;
+}
+
+// What the wire cannot say unambiguously: a Setting or EndCondition given with no arm set, and a
+// breakthrough condition set to false.
+INSTANTIATE_TEST_SUITE_P(
+    StageScenes, SceneCodecRejects,
+    ::testing::Values(
+        BadScene{"StageSettingWithoutValueOrSchedule",
+                 [](v1::Scene& s) { AddStage(s)->mutable_injection_rate_m2_s(); },
+                 "scene.stages[0].injection_rate_m2_s: set one of value or schedule"},
+        BadScene{"SecondStageOuterPressureWithoutValueOrSchedule",
+                 [](v1::Scene& s) {
+                   AddStage(s);
+                   AddStage(s)->mutable_outer_pressure_pa();
+                 },
+                 "scene.stages[1].outer_pressure_pa: set one of value or schedule"},
+        BadScene{"StageWallServoWithoutValueOrSchedule",
+                 [](v1::Scene& s) {
+                   AddStage(s);
+                   v1::StageWall* wall = AddStage(s)->add_walls();
+                   wall->set_wall(1);
+                   wall->mutable_servo_stress_pa();
+                 },
+                 "scene.stages[1].walls[0].servo_stress_pa: set one of value or schedule"},
+        BadScene{"StageWallDrainWithoutValueOrSchedule",
+                 [](v1::Scene& s) {
+                   v1::Stage* stage = AddStage(s);
+                   stage->add_walls()->set_fixed(true);
+                   stage->add_walls()->mutable_drain_pressure_pa();
+                 },
+                 "scene.stages[0].walls[1].drain_pressure_pa: set one of value or schedule"},
+        BadScene{"EndConditionWithoutKind", [](v1::Scene& s) { AddStage(s)->add_end(); },
+                 "scene.stages[0].end[1]: set one end condition (duration_s, steps, servo_held, "
+                 "kinetic_energy_ratio, bonds_broken, breakthrough, well_pressure_past_peak)"},
+        BadScene{"BreakthroughFalse",
+                 [](v1::Scene& s) {
+                   AddStage(s);
+                   AddStage(s)->add_end()->set_breakthrough(false);
+                 },
+                 "scene.stages[1].end[1].breakthrough: must be true"}),
     [](const ::testing::TestParamInfo<BadScene>& param_info) {
       return std::string(param_info.param.name);
     });

@@ -1,5 +1,5 @@
 // The checkpoint state codec: a snapshot survives the trip bit-exact, its bytes are the same
-// every time (the result hash depends on it), and a damaged series is refused.
+// every time (the result hash depends on it), and a damaged series or stage state is refused.
 #include "codec/simulation_state_codec.h"
 
 #include <gtest/gtest.h>
@@ -67,6 +67,94 @@ TEST(SimulationStateCodec, StateWithoutBooksReadsBackWithout) {
   auto out = ParseSimulationState(SerializeSimulationState(in));
   ASSERT_TRUE(out.ok()) << out.status().ToString();
   EXPECT_FALSE(out->ledger.has_value());
+}
+
+core::SimulationSnapshot StagedSample() {
+  core::SimulationSnapshot s = Sample();
+  core::StageRunState& stages = s.stages.emplace();
+  stages.index = 2;
+  stages.start_step = 40000000001ull;
+  stages.start_time_s = 0.1 + 0.2;
+  stages.bonds_broken = 17;
+  stages.peak_kinetic_energy_j = 1.0 / 3.0;
+  stages.peak_well_pressure_pa = 2.5e6 + 1.0 / 7.0;
+  stages.held_since_s = 1e-3 / 3.0;
+  stages.ended_metrics = {{"stage1_duration_s", 0.25},
+                          {"stage1_steps", 1234.0},
+                          {"stage2_peak_well_pressure_pa", 3.0e6 / 7.0}};
+  return s;
+}
+
+// A staged run's state survives the trip bit-exact, its ended metrics in core's (name) order.
+TEST(SimulationStateCodec, StageRunStateRoundTripsBitExact) {
+  const core::SimulationSnapshot in = StagedSample();
+  auto out = ParseSimulationState(SerializeSimulationState(in));
+  ASSERT_TRUE(out.ok()) << out.status().ToString();
+  ASSERT_TRUE(out->stages.has_value());
+  const core::StageRunState& got = *out->stages;
+  const core::StageRunState& want = *in.stages;
+  EXPECT_EQ(got.index, want.index);
+  EXPECT_EQ(got.start_step, want.start_step);
+  EXPECT_TRUE(SameBits(got.start_time_s, want.start_time_s));
+  EXPECT_EQ(got.bonds_broken, want.bonds_broken);
+  EXPECT_TRUE(SameBits(got.peak_kinetic_energy_j, want.peak_kinetic_energy_j));
+  ASSERT_TRUE(got.peak_well_pressure_pa.has_value());
+  EXPECT_TRUE(SameBits(*got.peak_well_pressure_pa, *want.peak_well_pressure_pa));
+  EXPECT_TRUE(SameBits(got.held_since_s, want.held_since_s));
+  ASSERT_EQ(got.ended_metrics.size(), want.ended_metrics.size());
+  for (std::size_t k = 0; k < want.ended_metrics.size(); ++k) {
+    EXPECT_EQ(got.ended_metrics[k].first, want.ended_metrics[k].first);
+    EXPECT_TRUE(SameBits(got.ended_metrics[k].second, want.ended_metrics[k].second)) << k;
+  }
+  EXPECT_EQ(SerializeSimulationState(in), SerializeSimulationState(StagedSample()));
+}
+
+// No peak yet and not held: the peak stays unset and -1 comes back as -1. A scene without stages
+// has no stage state.
+TEST(SimulationStateCodec, StageRunStateKeepsUnsetPeakAndNotHeld) {
+  core::SimulationSnapshot in = StagedSample();
+  in.stages->peak_well_pressure_pa.reset();
+  in.stages->held_since_s = -1.0;
+  in.stages->ended_metrics.clear();
+  auto out = ParseSimulationState(SerializeSimulationState(in));
+  ASSERT_TRUE(out.ok()) << out.status().ToString();
+  ASSERT_TRUE(out->stages.has_value());
+  EXPECT_FALSE(out->stages->peak_well_pressure_pa.has_value());
+  EXPECT_EQ(out->stages->held_since_s, -1.0);
+  EXPECT_TRUE(out->stages->ended_metrics.empty());
+  auto plain = ParseSimulationState(SerializeSimulationState(Sample()));
+  ASSERT_TRUE(plain.ok()) << plain.status().ToString();
+  EXPECT_FALSE(plain->stages.has_value());
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Numbers the end conditions compare against that no run could have written are DATA_LOSS
+// naming the field.
+TEST(SimulationStateCodec, DamagedStageRunStateIsDataLossNamingTheField) {
+  const struct {
+    void (*damage)(core::StageRunState&);
+    const char* field;
+  } cases[] = {
+      {[](core::StageRunState& s) { s.start_time_s = -1.0; }, "state.stages.start_time_s:"},
+      {[](core::StageRunState& s) { s.start_time_s = kNaN; }, "state.stages.start_time_s:"},
+      {[](core::StageRunState& s) { s.peak_kinetic_energy_j = kInf; },
+       "state.stages.peak_kinetic_energy_j:"},
+      {[](core::StageRunState& s) { s.peak_well_pressure_pa = kNaN; },
+       "state.stages.peak_well_pressure_pa:"},
+      {[](core::StageRunState& s) { s.held_since_s = -0.5; }, "state.stages.held_since_s:"},
+      {[](core::StageRunState& s) { s.held_since_s = kInf; }, "state.stages.held_since_s:"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.field);
+    core::SimulationSnapshot in = StagedSample();
+    c.damage(*in.stages);
+    auto parsed = ParseSimulationState(SerializeSimulationState(in));
+    ASSERT_FALSE(parsed.ok());
+    EXPECT_EQ(parsed.status().code(), core::StatusCode::kDataLoss);
+    EXPECT_EQ(parsed.status().message().rfind(c.field, 0), 0u) << parsed.status().message();
+  }
 }
 
 TEST(SimulationStateCodec, SerializationIsDeterministic) {

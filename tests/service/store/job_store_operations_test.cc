@@ -103,8 +103,9 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
       "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
       "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
       "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);"
-      "DROP TABLE sweep_jobs; DROP TABLE sweeps; DROP TABLE job_labels; DROP INDEX "
-      "jobs_by_finished; PRAGMA user_version = 6;");
+      "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
+      "ALTER TABLE jobs DROP COLUMN stage_name; DROP TABLE sweep_jobs; DROP TABLE sweeps; "
+      "DROP TABLE job_labels; DROP INDEX jobs_by_finished; PRAGMA user_version = 6;");
   auto reopened = JobStore::Open(path_);
   ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
   store_ = std::move(*reopened);
@@ -116,6 +117,37 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
   EXPECT_EQ(store_->ListCheckpoints("j-1")->at(1).path,
             (dir_ / "checkpoints" / "j-1" / "ckpt-000000000005.bin").string());
   EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
+}
+
+// A database from before v10 has no stage columns: its jobs read back without a stage, and a
+// running job's progress stores one after the migration.
+TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
+  ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
+  const std::int64_t epoch = ClaimWithCheckpoints("j-1", {});
+  ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, JobProgress::At(4, 0.5, 0.25, 0)).ok());
+  store_.reset();
+  RawExec(
+      "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
+      "ALTER TABLE jobs DROP COLUMN stage_name; PRAGMA user_version = 9;");
+  auto reopened = JobStore::Open(path_);
+  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+  store_ = std::move(*reopened);
+  EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
+  auto old = store_->Get("j-1");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_EQ(old->progress.step, 4u);
+  EXPECT_EQ(old->progress.stage_index, 0u);
+  EXPECT_EQ(old->progress.stage_count, 0u);
+  EXPECT_EQ(old->progress.stage_name, "");
+
+  JobProgress staged = JobProgress::At(5, 0.6, 0.3, 0);
+  staged.stage_index = 1;
+  staged.stage_count = 2;
+  staged.stage_name = "confine";
+  ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, staged).ok());
+  EXPECT_EQ(RawText("SELECT stage_index || '/' || stage_count || ' ' || stage_name FROM jobs"),
+            "1/2 confine");
+  EXPECT_EQ(store_->Get("j-1")->progress.stage_name, "confine");
 }
 
 // A failing statement: the Status names the operation and SQLite's generic reason, never the SQL

@@ -519,9 +519,43 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 9);
+  EXPECT_EQ(JobStore::kSchemaVersion, 10);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
+}
+
+// A staged run's progress names its stage; the stored job keeps it (seep show after the run) and
+// a resumed attempt starts without it.
+TEST_F(JobStoreTest, ProgressKeepsTheStageAndResumeClearsIt) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
+  JobProgress progress = JobProgress::At(9, 1.0, 0.5, 0);
+  progress.stage_index = 2;
+  progress.stage_count = 3;
+  progress.stage_name = "inject";
+  ASSERT_TRUE(store_->UpdateProgress("a", epoch, progress).ok());
+  for (const bool with_scene : {true, false}) {
+    auto job = with_scene ? store_->Get("a") : store_->GetWithoutScene("a");
+    ASSERT_TRUE(job.ok()) << job.status().ToString();
+    EXPECT_EQ(job->progress.step, 9u);
+    EXPECT_EQ(job->progress.stage_index, 2u);
+    EXPECT_EQ(job->progress.stage_count, 3u);
+    EXPECT_EQ(job->progress.stage_name, "inject");
+  }
+  auto page = store_->List(10, std::nullopt);
+  ASSERT_TRUE(page.ok());
+  ASSERT_EQ(page->jobs.size(), 1u);
+  EXPECT_EQ(page->jobs[0].progress.stage_name, "inject");
+
+  ASSERT_TRUE(store_->Finish("a", epoch, JobState::kFailed, "INTERNAL", "x", {}, 1.0, 200).ok());
+  EXPECT_EQ(store_->Get("a")->progress.stage_index, 2u);  // where the run ended
+  auto resumed = store_->Resume("a");
+  ASSERT_TRUE(resumed.ok()) << resumed.status().ToString();
+  auto again = store_->Get("a");
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->progress.stage_index, 0u);
+  EXPECT_EQ(again->progress.stage_count, 0u);
+  EXPECT_EQ(again->progress.stage_name, "");
 }
 
 TEST_F(JobStoreTest, CheckpointsAreFencedListedNewestFirstAndRotated) {
