@@ -184,11 +184,12 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     SEEP_RETURN_IF_ERROR(program.Restore(*snap.stages, snap.step, snap.time_s));
     controls = program.ControlsAt(snap.time_s - snap.stages->start_time_s);
   }
+  // (A scene without stages never has its settings written: it keeps the scene's own.)
   const StageControls before = applied_;
-  WriteControls(controls, &scene_);
+  if (snap.stages) WriteControls(controls, &scene_);
   // On an error below the live scene goes back to what it was.
   const auto undo = [&](Status status) {
-    WriteControls(before, &scene_);
+    if (snap.stages) WriteControls(before, &scene_);
     return status;
   };
   for (const auto& [field, value] :
