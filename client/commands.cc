@@ -164,6 +164,8 @@ std::string NewRequestId() {
 }  // namespace
 
 int Submit(const GlobalOptions& global, const SubmitOptions& options) {
+  const bool fork = !options.from_job_id.empty();
+  const char* command = fork ? "fork" : "submit";
   v1::SubmitJobRequest request;
   MessageFile file;
   if (const std::string error = file.Load(options.scene_file, request.mutable_scene(), "scene");
@@ -177,8 +179,12 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   request.set_priority(options.priority);
   if (const std::string bad = ParseLabelOptions(options.labels, request.mutable_labels());
       !bad.empty()) {
-    std::fprintf(stderr, "seep: submit: %s\n", bad.c_str());
+    std::fprintf(stderr, "seep: %s: %s\n", command, bad.c_str());
     return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  if (fork) {
+    request.set_from_job_id(options.from_job_id);
+    if (options.from_step) request.set_from_step(*options.from_step);
   }
 
   auto stub = v1::SeepService::NewStub(Connect(global));
@@ -186,17 +192,23 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
   PrepareCall(global, &ctx);
   v1::SubmitJobResponse response;
   if (auto status = stub->SubmitJob(&ctx, request, &response); !status.ok()) {
+    // Labels and the fork's parent are not in the file.
+    const std::string& message = status.error_message();
     if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT &&
-        status.error_message().rfind("labels", 0) != 0) {
+        message.rfind("labels", 0) != 0 && message.rfind("from_", 0) != 0) {
       // The server names the field ("scene.fluid.viscosity_pa_s: ..."): add the file and line.
-      std::fprintf(stderr, "%s\n", file.PointAt(status.error_message(), "scene").c_str());
+      std::fprintf(stderr, "%s\n", file.PointAt(message, "scene").c_str());
       return static_cast<int>(status.error_code());
     }
-    return ReportRpcError(global, "submit", status);
+    return ReportRpcError(global, command, status);
   }
+  const std::string forked =
+      fork ? fmt::format(", forked from job {} at step {}", response.job().parent_job_id(),
+                         response.job().parent_step())
+           : std::string();
   const std::string submitted =
-      fmt::format("submitted job {} ({}, request id {})", response.job().id(),
-                  response.created() ? "new" : "already submitted", request.request_id());
+      fmt::format("submitted job {} ({}, request id {}){}", response.job().id(),
+                  response.created() ? "new" : "already submitted", request.request_id(), forked);
   if (global.json && !options.watch) {
     std::cout << ToJson(response.job());
   } else if (global.json) {

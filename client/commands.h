@@ -4,6 +4,8 @@
 //   line (kExitCodeHelp below is the table `seep --help` prints).
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,8 +54,13 @@ struct SubmitOptions {
   int priority = 0;
   std::vector<std::string> labels;  // KEY=VALUE
   bool watch = false;
+  // seep fork: the job whose checkpoint the scene continues from, and the checkpoint's step
+  // (unset: the newest).
+  std::string from_job_id;
+  std::optional<std::uint64_t> from_step;
 };
 
+// Queues a scene file; with from_job_id, as a fork of that job (seep fork).
 int Submit(const GlobalOptions& global, const SubmitOptions& options);
 int Watch(const GlobalOptions& global, const std::string& job_id);
 int Show(const GlobalOptions& global, const std::string& job_id);

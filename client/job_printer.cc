@@ -1,6 +1,7 @@
 #include "job_printer.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <google/protobuf/util/time_util.h>
 
 #include <algorithm>
@@ -50,6 +51,12 @@ std::string FormatJob(const v1::Job& job) {
   out += fmt::format("build     {}\nattempt   {}\n", job.build_id(), job.attempt());
   if (job.priority() != 0) out += fmt::format("priority  {}\n", job.priority());
   if (!job.labels().empty()) out += fmt::format("labels    {}\n", FormatLabels(job));
+  if (!job.parent_job_id().empty()) {
+    out += fmt::format("parent    {} (step {})\n", job.parent_job_id(), job.parent_step());
+  }
+  if (!job.child_job_ids().empty()) {
+    out += fmt::format("children  {}\n", fmt::join(job.child_job_ids(), ", "));
+  }
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
   }

@@ -8,6 +8,22 @@
 #include "job_admin_commands.h"
 #include "sweep_commands.h"
 
+namespace {
+
+// The options of a new job, which submit and fork share.
+void AddJobOptions(CLI::App* command, seep::client::SubmitOptions* options) {
+  command->add_option("--name", options->name, "job name (default: the scene's name)");
+  command->add_option("--request-id", options->request_id,
+                      "idempotency key: submitting it again returns the same job");
+  command->add_option("--priority", options->priority,
+                      "queued jobs run highest priority first (-1000 to 1000; default 0)");
+  command->add_option("--label", options->labels,
+                      "a KEY=VALUE label to find the job by (seep list --label); repeatable");
+  command->add_flag("--watch", options->watch, "follow the job until it finishes");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace seep::client;  // NOLINT(google-build-using-namespace)
   GlobalOptions global;
@@ -37,14 +53,20 @@ int main(int argc, char** argv) {
   SubmitOptions submit;
   auto* submit_cmd = app.add_subcommand("submit", "queue a scene file (.textproto or .json)");
   submit_cmd->add_option("scene", submit.scene_file, "scene file")->required();
-  submit_cmd->add_option("--name", submit.name, "job name (default: the scene's name)");
-  submit_cmd->add_option("--request-id", submit.request_id,
-                         "idempotency key: submitting it again returns the same job");
-  submit_cmd->add_option("--priority", submit.priority,
-                         "queued jobs run highest priority first (-1000 to 1000; default 0)");
-  submit_cmd->add_option("--label", submit.labels,
-                         "a KEY=VALUE label to find the job by (seep list --label); repeatable");
-  submit_cmd->add_flag("--watch", submit.watch, "follow the job until it finishes");
+  AddJobOptions(submit_cmd, &submit);
+
+  SubmitOptions fork;
+  std::uint64_t fork_step = 0;
+  auto* fork_cmd = app.add_subcommand(
+      "fork", "queue a scene file that continues a staged job from one of its checkpoints");
+  fork_cmd->add_option("job", fork.from_job_id, "the job to branch from")->required();
+  fork_cmd
+      ->add_option("scene", fork.scene_file,
+                   "scene file: the job's scene with new stages after its current one")
+      ->required();
+  auto* fork_step_opt = fork_cmd->add_option(
+      "--step", fork_step, "the checkpoint step to start from (default: the job's newest)");
+  AddJobOptions(fork_cmd, &fork);
 
   std::string job_id;
   auto* watch_cmd = app.add_subcommand("watch", "follow a job's progress until it finishes");
@@ -141,6 +163,10 @@ int main(int argc, char** argv) {
   if (const int rc = RunFieldCommands(global, field_commands); rc >= 0) return rc;
   if (const int rc = RunSweepCommands(global, sweep_commands); rc >= 0) return rc;
   if (*submit_cmd) return Submit(global, submit);
+  if (*fork_cmd) {
+    if (fork_step_opt->count() > 0) fork.from_step = fork_step;
+    return Submit(global, fork);
+  }
   if (*watch_cmd) return Watch(global, job_id);
   if (*show_cmd) return Show(global, job_id);
   if (*list_cmd) return List(global, list);

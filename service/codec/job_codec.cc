@@ -100,6 +100,11 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   out->set_priority(job.priority);
   out->set_cancel_requested(job.cancel_requested);
   for (const auto& [key, value] : job.labels) (*out->mutable_labels())[key] = value;
+  if (job.parent_job_id) {
+    out->set_parent_job_id(*job.parent_job_id);
+    out->set_parent_step(job.parent_step);
+  }
+  for (const std::string& child : job.child_job_ids) out->add_child_job_ids(child);
 }
 
 void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out) {

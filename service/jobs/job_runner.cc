@@ -277,8 +277,18 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     if (!created.ok()) return created.status();
     sim.emplace(std::move(*created));
     ++running.ticks;  // set-up done
-    const std::uint64_t resumed_from =
-        keeper.enabled() ? keeper.RestoreNewest(*sim).value_or(0) : 0;
+    // A fork always continues from a checkpoint (its first one is its parent's, copied at
+    // submit), even when this runner writes none; from the start it would not be that fork.
+    std::optional<std::uint64_t> restored;
+    if (keeper.enabled() || job.parent_job_id) restored = keeper.RestoreNewest(*sim);
+    if (!restored && job.parent_job_id) {
+      return core::FailedPrecondition(fmt::format(
+          "a fork starts from its parent job {}'s checkpoint at step {} (copied as its first "
+          "checkpoint), but none of its checkpoints can be used (see its CHECKPOINT_SKIPPED "
+          "events); fork the parent again",
+          *job.parent_job_id, job.parent_step));
+    }
+    const std::uint64_t resumed_from = restored.value_or(0);
     ++running.ticks;
     keeper.StartClock();
     // The ETA counts only the part run in this attempt.

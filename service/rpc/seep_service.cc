@@ -74,6 +74,13 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
     if (!req->has_scene() && !req->has_calibration()) {
       return core::InvalidArgument("scene: is required");
     }
+    if (req->from_job_id().empty() && req->has_from_step()) {
+      return core::InvalidArgument("from_step: only with from_job_id (the job to fork)");
+    }
+    if (!req->from_job_id().empty() && req->has_calibration()) {
+      return core::InvalidArgument(
+          "from_job_id: a fork continues a simulation's run; send its scene, not a calibration");
+    }
     SEEP_RETURN_IF_ERROR(CheckRequestId(req->request_id()));
     SEEP_RETURN_IF_ERROR(CheckPriority(req->priority()));
     JobRecord job;
@@ -94,11 +101,16 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
     if (!req->request_id().empty()) job.request_id = req->request_id();
     job.build_id = build_id_;
     job.created_at_ms = NowMs();
-    SEEP_ASSIGN_OR_RETURN(const InsertOutcome outcome, store_.Insert(job));
+    SEEP_ASSIGN_OR_RETURN(const InsertOutcome outcome,
+                          req->from_job_id().empty() ? store_.Insert(job) : InsertFork(*req, job));
     if (outcome.created) {
-      logger_->info("{} job {} submitted ('{}')",
+      logger_->info("{} job {} submitted ('{}'){}",
                     outcome.job.kind == JobKind::kCalibration ? "calibration" : "simulation",
-                    outcome.job.id, outcome.job.name);
+                    outcome.job.id, outcome.job.name,
+                    outcome.job.parent_job_id
+                        ? fmt::format(", forked from job {} at step {}", *outcome.job.parent_job_id,
+                                      outcome.job.parent_step)
+                        : std::string());
       if (hooks_.wake_workers) hooks_.wake_workers();
     }
     SEEP_ASSIGN_OR_RETURN(const JobRecord current, LoadJob(outcome.job.id));

@@ -96,6 +96,18 @@ class SeepServiceImpl final : public v1::SeepService::Service {
   core::Result<PreparedCalibration> PrepareCalibrationJob(const v1::Calibration& calibration);
   // The simulation half: the size limit, full validation, and the serialized scene.
   core::Result<std::string> PrepareSimulationJob(const v1::Scene& scene);
+  // The fork half (from_job_id; seep_service_forks.cc), for a fork whose id and serialized
+  // scene are set: the parent's checkpoint chosen and verified, the scene compared with the
+  // parent's (INVALID_ARGUMENT naming the field), the checkpoint copied for the fork; then the
+  // fork and its copy stored together (the copy removed again when they are not).
+  struct ForkStart {
+    std::string parent_job_id;
+    CheckpointRecord checkpoint;  // the copy, written
+  };
+  core::Result<ForkStart> PrepareFork(const v1::SubmitJobRequest& request, const JobRecord& fork);
+  core::Result<InsertOutcome> InsertFork(const v1::SubmitJobRequest& request, JobRecord& fork);
+  // Removes a fork's copy of its parent's checkpoint and the folder it made for it.
+  void RemoveForkCopy(const std::filesystem::path& path);
 
   // What CancelJob, ResumeJob and DeleteJob do to one job, shared with the sweep calls: the
   // store's change, the log line, and the hub and workers told. Delete removes the files of the

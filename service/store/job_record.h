@@ -83,6 +83,12 @@ struct JobRecord {
   std::optional<std::int64_t> lease_expires_at_ms;
   // key=value pairs given at submit, sorted by key (keys unique); validated by the service.
   std::vector<std::pair<std::string, std::string>> labels;
+  // A fork: the job it continues and the step of that job's checkpoint it started from. Kept
+  // when the parent is deleted (the fork has its own copy of the checkpoint).
+  std::optional<std::string> parent_job_id;
+  std::uint64_t parent_step = 0;
+  // The jobs forked from this one, oldest first (filled by Get and GetWithoutScene).
+  std::vector<std::string> child_job_ids;
 };
 
 // One checkpoint file of a job, as the store records it.

@@ -200,6 +200,13 @@ ALTER TABLE jobs ADD COLUMN stage_index INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN stage_count INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN stage_name TEXT NOT NULL DEFAULT '';
 )sql",
+    // v11: forks (SubmitJobRequest.from_job_id): the job a fork continues and the checkpoint step
+    // it started from. No foreign key: a deleted parent's id stays in its forks' records.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN parent_job_id TEXT;
+ALTER TABLE jobs ADD COLUMN parent_step INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX jobs_by_parent ON jobs(parent_job_id) WHERE parent_job_id IS NOT NULL;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -212,8 +219,8 @@ constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
     "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority, "
-    "stage_index, stage_count, stage_name";
-constexpr int kSceneColumn = 25;  // after kJobColumns
+    "stage_index, stage_count, stage_name, parent_job_id, parent_step";
+constexpr int kSceneColumn = 27;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -241,6 +248,8 @@ JobRecord ReadJobRow(const Stmt& s) {
   job.progress.stage_index = static_cast<std::uint32_t>(s.ColumnInt(22));
   job.progress.stage_count = static_cast<std::uint32_t>(s.ColumnInt(23));
   job.progress.stage_name = s.ColumnText(24);
+  if (!s.ColumnIsNull(25)) job.parent_job_id = s.ColumnText(25);
+  job.parent_step = static_cast<std::uint64_t>(s.ColumnInt(26));
   return job;
 }
 
@@ -345,9 +354,11 @@ Result<InsertOutcome> JobStore::InsertLocked(const JobRecord& job) {
     SEEP_ASSIGN_OR_RETURN(const auto existing, FindByRequestIdLocked(*job.request_id));
     if (existing) {
       SEEP_ASSIGN_OR_RETURN(JobRecord found, GetLocked(*existing, /*with_scene=*/true));
-      if (found.scene != job.scene || found.kind != job.kind || found.labels != labels) {
+      if (found.scene != job.scene || found.kind != job.kind || found.labels != labels ||
+          found.parent_job_id != job.parent_job_id || found.parent_step != job.parent_step) {
         return core::AlreadyExists(fmt::format(
-            "request_id: '{}' was already used for job {} with a different scene or labels",
+            "request_id: '{}' was already used for job {} with a different scene or labels (or "
+            "another job or step to fork from)",
             *job.request_id, found.id));
       }
       return InsertOutcome{std::move(found), false};
@@ -356,7 +367,8 @@ Result<InsertOutcome> JobStore::InsertLocked(const JobRecord& job) {
   SEEP_ASSIGN_OR_RETURN(
       Stmt s,
       db_->Prepare("INSERT INTO jobs (id, request_id, name, state, scene, build_id, "
-                   "created_at_ms, kind, priority) VALUES (?, ?, ?, 'QUEUED', ?, ?, ?, ?, ?)"));
+                   "created_at_ms, kind, priority, parent_job_id, parent_step) VALUES (?, ?, ?, "
+                   "'QUEUED', ?, ?, ?, ?, ?, ?, ?)"));
   s.Bind(1, std::string_view(job.id))
       .Bind(2, job.request_id)
       .Bind(3, std::string_view(job.name))
@@ -364,7 +376,9 @@ Result<InsertOutcome> JobStore::InsertLocked(const JobRecord& job) {
       .Bind(5, std::string_view(job.build_id))
       .Bind(6, job.created_at_ms)
       .Bind(7, std::string_view(JobKindName(job.kind)))
-      .Bind(8, static_cast<std::int64_t>(job.priority));
+      .Bind(8, static_cast<std::int64_t>(job.priority))
+      .Bind(9, job.parent_job_id)
+      .Bind(10, static_cast<std::int64_t>(job.parent_step));
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_ASSIGN_OR_RETURN(
       Stmt label, db_->Prepare("INSERT INTO job_labels (job_id, key, value) VALUES (?, ?, ?)"));
@@ -375,10 +389,13 @@ Result<InsertOutcome> JobStore::InsertLocked(const JobRecord& job) {
         .Bind(3, std::string_view(value));
     SEEP_RETURN_IF_ERROR(label.Run());
   }
-  SEEP_RETURN_IF_ERROR(
-      AddEventLocked(*db_, job.id, job.created_at_ms, "SUBMITTED",
-                     fmt::format("{} job, priority {}, {} label(s)", JobKindName(job.kind),
-                                 job.priority, labels.size())));
+  std::string submitted = fmt::format("{} job, priority {}, {} label(s)", JobKindName(job.kind),
+                                      job.priority, labels.size());
+  if (job.parent_job_id) {
+    submitted +=
+        fmt::format(", forked from job {} at step {}", *job.parent_job_id, job.parent_step);
+  }
+  SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, job.id, job.created_at_ms, "SUBMITTED", submitted));
   JobRecord stored = job;
   stored.labels = std::move(labels);
   stored.state = JobState::kQueued;
@@ -404,6 +421,7 @@ Result<JobRecord> JobStore::GetLocked(const std::string& id, bool with_scene) {
     job.metrics.emplace_back(m.ColumnText(0), m.ColumnDouble(1));
   }
   SEEP_RETURN_IF_ERROR(ReadResultSeriesLocked(job));
+  SEEP_ASSIGN_OR_RETURN(job.child_job_ids, ChildJobIdsLocked(id));
   std::vector<JobRecord> one;
   one.push_back(std::move(job));
   SEEP_RETURN_IF_ERROR(ReadLabelsLocked(one));

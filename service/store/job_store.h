@@ -77,7 +77,7 @@ struct CrashLoopFailure {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 10;
+  static constexpr int kSchemaVersion = 11;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
@@ -89,6 +89,11 @@ class JobStore {
 
   // Stores a new QUEUED job; with a request_id already present, returns that job instead.
   Result<InsertOutcome> Insert(const JobRecord& job);
+  // Insert for a fork (job.parent_job_id set; job_store_forks.cc): the job and the record of its
+  // first checkpoint `start` (the copy of its parent's checkpoint, already written) in one
+  // transaction, so that its first claim continues from it. With a request_id already present it
+  // returns that job and records nothing (the caller removes its copy).
+  Result<InsertOutcome> InsertFork(const JobRecord& job, const CheckpointRecord& start);
   Result<JobRecord> Get(const std::string& id);
   // Get without the scene bytes (left empty): for readers that never show it, such as watchers.
   Result<JobRecord> GetWithoutScene(const std::string& id);
@@ -221,6 +226,8 @@ class JobStore {
   Result<SweepRecord> GetSweepLocked(const std::string& id);
   Status ReadLabelsLocked(std::vector<JobRecord>& jobs);
   Status ReadResultSeriesLocked(JobRecord& job);
+  // The ids of the jobs forked from `id`, oldest first.
+  Result<std::vector<std::string>> ChildJobIdsLocked(const std::string& id);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);
   Status ReadCalibrationTagsLocked(std::vector<StoredCalibration>& records);
   // Removes what a run of the job produced (metrics, series, calibration records and tags).

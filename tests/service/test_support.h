@@ -34,4 +34,14 @@ inline v1::Scene ExampleScene(const std::string& file) {
   return scene;
 }
 
+// A scene of the service tests' own (tests/service/data/<file>, text format).
+inline v1::Scene TestDataScene(const std::string& file) {
+  v1::Scene scene;
+  std::ifstream in(std::string(SEEP_SERVICE_TEST_DATA_DIR) + "/" + file);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene)) << file;
+  return scene;
+}
+
 }  // namespace seep::testing

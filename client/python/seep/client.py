@@ -83,6 +83,19 @@ class Client:
         return self._queue("SubmitJob", request, request.scene, name, request_id, priority,
                            labels, "submit").job.id
 
+    def fork(self, from_job_id, scene, *, from_step=None, name=None, request_id=None, priority=0,
+             labels=None):
+        """Queues a fork of job from_job_id and returns its id: `scene` (as for submit) is that
+        job's scene with new stages after the one its checkpoint at from_step (None = its newest)
+        is in, and the fork starts exactly from that checkpoint. A scene that differs elsewhere,
+        a calibration job or an unknown step raises InvalidArgument naming the field."""
+        request = pb.SubmitJobRequest(scene=messages.to_message(scene, scene_pb2.Scene, "scene"),
+                                      from_job_id=from_job_id)
+        if from_step is not None:
+            request.from_step = from_step
+        return self._queue("SubmitJob", request, request.scene, name, request_id, priority,
+                           labels, "fork").job.id
+
     def job(self, job_id):
         """The seep.v1.Job as it is now (state, progress, error, ...)."""
         return self._call("GetJob", pb.GetJobRequest(id=job_id), "job").job

@@ -103,6 +103,8 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
       "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
       "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
       "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);"
+      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
+      "ALTER TABLE jobs DROP COLUMN parent_step; "
       "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
       "ALTER TABLE jobs DROP COLUMN stage_name; DROP TABLE sweep_jobs; DROP TABLE sweeps; "
       "DROP TABLE job_labels; DROP INDEX jobs_by_finished; PRAGMA user_version = 6;");
@@ -127,6 +129,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
   ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, JobProgress::At(4, 0.5, 0.25, 0)).ok());
   store_.reset();
   RawExec(
+      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
+      "ALTER TABLE jobs DROP COLUMN parent_step; "
       "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
       "ALTER TABLE jobs DROP COLUMN stage_name; PRAGMA user_version = 9;");
   auto reopened = JobStore::Open(path_);
@@ -148,6 +152,34 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
   EXPECT_EQ(RawText("SELECT stage_index || '/' || stage_count || ' ' || stage_name FROM jobs"),
             "1/2 confine");
   EXPECT_EQ(store_->Get("j-1")->progress.stage_name, "confine");
+}
+
+// A database from before v11 has no parent columns: its jobs read back as no fork's, and a fork
+// can be stored after the migration.
+TEST_F(StoreOperations, MigrationElevenAddsTheParentColumns) {
+  ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
+  store_.reset();
+  RawExec(
+      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
+      "ALTER TABLE jobs DROP COLUMN parent_step; PRAGMA user_version = 10;");
+  auto reopened = JobStore::Open(path_);
+  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+  store_ = std::move(*reopened);
+  EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
+  auto old = store_->Get("j-1");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_FALSE(old->parent_job_id.has_value());
+  EXPECT_TRUE(old->child_job_ids.empty());
+  JobRecord fork = NewJob("j-2");
+  fork.parent_job_id = "j-1";
+  fork.parent_step = 40;
+  CheckpointRecord start;
+  start.step = 40;
+  start.path = CheckpointPath("j-2", 40).string();
+  ASSERT_TRUE(store_->InsertFork(fork, start).ok());
+  EXPECT_EQ(store_->Get("j-1")->child_job_ids, std::vector<std::string>{"j-2"});
+  EXPECT_EQ(RawText("SELECT parent_job_id || ' ' || parent_step FROM jobs WHERE id = 'j-2'"),
+            "j-1 40");
 }
 
 // A failing statement: the Status names the operation and SQLite's generic reason, never the SQL
