@@ -94,6 +94,11 @@ core::DemContactState ContactsFromProto(const v1::DemContactState& p) {
 // Each effect's own part (core/effects/effect_state.h), one block per effect.
 void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
   out->set_bonds_broken(e.contacts.bonds_broken);
+  const core::ContactsEffectState& c = e.contacts;
+  for (const double v : {static_cast<double>(c.broken_traced), c.broken_x, c.broken_y,
+                         c.broken_xx, c.broken_xy, c.broken_yy}) {
+    out->add_broken_bond_moments(v);
+  }
   out->set_max_flow_sub_steps(e.flow.max_sub_steps);
   out->set_breakthrough_time_s(e.redetection.breakthrough_time_s);
   out->set_peak_well_pressure_pa(e.injection.peak_well_pressure_pa);
@@ -103,6 +108,17 @@ void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
 core::EffectStates EffectStatesFromProto(const v1::MechanicsState& state) {
   core::EffectStates e;
   e.contacts.bonds_broken = state.bonds_broken();
+  // Absent in checkpoints written before the moments were kept: the trace then counts from zero.
+  if (state.broken_bond_moments_size() == 6) {
+    const auto& v = state.broken_bond_moments();
+    core::ContactsEffectState& c = e.contacts;
+    c.broken_traced = static_cast<std::uint64_t>(v[0]);
+    c.broken_x = v[1];
+    c.broken_y = v[2];
+    c.broken_xx = v[3];
+    c.broken_xy = v[4];
+    c.broken_yy = v[5];
+  }
   e.flow.max_sub_steps = state.max_flow_sub_steps();
   e.redetection.breakthrough_time_s = state.breakthrough_time_s();
   e.injection.peak_well_pressure_pa = state.peak_well_pressure_pa();

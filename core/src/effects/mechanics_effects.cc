@@ -2,6 +2,9 @@
 // damping and walls (fixed or servo-controlled).
 #include <fmt/format.h>
 
+#include <cmath>
+#include <numbers>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,6 +43,17 @@ class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
   // The first force of a step: sets (not adds) the contact and bond forces.
   Status AddForces(LiveState& s, const StepInfo& info) override {
     SEEP_RETURN_IF_ERROR(s.contacts->SetForces(&s.particles, s.walls, info.dt, &s.counters.dem));
+    const DemParticles& p = s.particles;
+    for (const BondBreak& b : s.contacts->broken_bonds()) {
+      const auto i = static_cast<std::size_t>(b.i), j = static_cast<std::size_t>(b.j);
+      const double x = 0.5 * (p.x[i] + p.x[j]), y = 0.5 * (p.y[i] + p.y[j]);
+      state_.broken_x += x;
+      state_.broken_y += y;
+      state_.broken_xx += x * x;
+      state_.broken_xy += x * y;
+      state_.broken_yy += y * y;
+      ++state_.broken_traced;
+    }
     state_.bonds_broken += s.contacts->broken_bonds().size();
     return Status::Ok();
   }
@@ -47,8 +61,30 @@ class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
   void SaveTo(EffectStates* out) const override { out->contacts = state_; }
   void RestoreFrom(const EffectStates& in) override { state_ = in.contacts; }
 
+ private:
+  // The fracture's trace: the principal axis of the broken bonds' midpoints (where they broke),
+  // fracture_angle_deg in [0, 180) from +x towards +y, and fracture_spread_ratio, the minor over
+  // the major variance (0: the breaks lie on a line, 1: no direction), once two bonds broke.
+  void AddFractureTrace(Metrics* m) const {
+    if (state_.broken_traced < 2) return;
+    const double n = static_cast<double>(state_.broken_traced);
+    const double mx = state_.broken_x / n, my = state_.broken_y / n;
+    const double cxx = state_.broken_xx / n - mx * mx;
+    const double cyy = state_.broken_yy / n - my * my;
+    const double cxy = state_.broken_xy / n - mx * my;
+    double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy) * 180.0 / std::numbers::pi;
+    if (angle < 0.0) angle += 180.0;
+    const double mean = 0.5 * (cxx + cyy);
+    const double radius = std::hypot(0.5 * (cxx - cyy), cxy);
+    (*m)["fracture_angle_deg"] = angle;
+    (*m)["fracture_spread_ratio"] = mean + radius > 0.0 ? (mean - radius) / (mean + radius) : 1.0;
+  }
+
+ public:
+
   void AddMetrics(const LiveState& s, Metrics* m) const override {
     (*m)["bonds_broken"] = static_cast<double>(state_.bonds_broken);
+    AddFractureTrace(m);
     (*m)["particle_count"] = static_cast<double>(s.particles.size());
     double kinetic = 0.0;
     const DemParticles& p = s.particles;

@@ -15,9 +15,20 @@
 
 #include "seep/core/reference/terzaghi.h"
 #include "seep/core/run/simulation.h"
+#include "terzaghi_column_probe.h"
 
 namespace seep::core {
 namespace {
+
+using terzaghi_probe::Isochrone;
+using terzaghi_probe::kBottomWall;
+using terzaghi_probe::kTopWall;
+using terzaghi_probe::LoadCentroid;
+using terzaghi_probe::OneThread;
+using terzaghi_probe::RunAndSample;
+using terzaghi_probe::Sample;
+using terzaghi_probe::SettlementAt;
+using terzaghi_probe::WindowMean;
 
 // The column: 10 x 40 equal disks on a hex lattice (rows horizontal), H ~ 68 mm. Every contact of
 // the lattice touches at set-up and the springs are linear, so the skeleton is (close to) linear
@@ -54,8 +65,6 @@ constexpr double kServoMaxSpeed = 0.2;  // m/s: the load is on in ~1 ms, Tv ~ 0.
 // fluid's volume change (a compressible "grain": at this load their lenses take ~16 % of dV), which
 // Terzaghi's incompressible grains leave out; n = 0.14 is the walled column's own V_p / V_d.
 constexpr double kStoragePorosity = 0.14;
-constexpr std::size_t kTopWall = 3;  // index in Walls()
-constexpr std::size_t kBottomWall = 0;
 // The top platen: each stretch over a pore passes 1e-2 m^2/s per Pa per m, ~1e4 times a pipe of
 // the column, so the platen holds its pores at its 0 Pa like an ideal drain.
 constexpr double kPlatenConductance = 1e-2;  // m/(Pa s)
@@ -116,170 +125,6 @@ double Metric(const RunReport& report, const char* name) {
   return 0.0;
 }
 
-struct Sample {
-  double t = 0.0;
-  double settlement = 0.0;     // top wall displacement from its set-up position, m (down > 0)
-  double mean_pressure = 0.0;  // pore-volume weighted mean over the domains, Pa
-  double top_stress = 0.0;     // total normal stress on the top platen, Pa
-};
-
-// Pressure against depth below the top platen at one moment: pore-volume weighted band means.
-struct Isochrone {
-  double t = 0.0;
-  std::vector<double> depth, pressure;  // m, Pa
-};
-
-constexpr int kBands = 8;
-
-Isochrone MeasureIsochrone(const Simulation& now) {
-  const LiveState& s = now.stepper().state();
-  const double top = s.walls[kTopWall].py;
-  const double height = top - s.walls[kBottomWall].py;
-  std::vector<double> volume(kBands, 0.0), depth(kBands, 0.0), pressure(kBands, 0.0);
-  const auto p = s.net.flow.pressure();
-  const auto vp = s.net.flow.pore_volume();
-  for (std::size_t d = 0; d < s.net.domains.num_domains(); ++d) {
-    const double z = top - s.net.domains.centroid_y[d];
-    const int band = std::clamp(static_cast<int>(z / height * kBands), 0, kBands - 1);
-    volume[band] += vp[d];
-    depth[band] += vp[d] * z;
-    pressure[band] += vp[d] * p[d];
-  }
-  Isochrone out;
-  out.t = now.time_s();
-  for (int b = 0; b < kBands; ++b) {
-    if (volume[b] <= 0.0) continue;
-    out.depth.push_back(depth[b] / volume[b]);
-    out.pressure.push_back(pressure[b] / volume[b]);
-  }
-  return out;
-}
-
-// Runs `scene` to its end, sampling every `every` steps (and the first and last state), with an
-// isochrone at each sample when asked.
-std::vector<Sample> RunAndSample(const SceneSpec& scene, std::uint64_t every,
-                                 std::vector<Isochrone>* isochrones = nullptr) {
-  std::vector<Sample> samples;
-  Result<Simulation> created = Simulation::Create(scene);
-  EXPECT_TRUE(created.ok()) << created.status().message();
-  if (!created.ok()) return samples;
-  Simulation& sim = *created;
-  const double wall0 = sim.stepper().state().walls[kTopWall].py;
-  auto record = [&](const Simulation& now) {
-    const LiveState& s = now.stepper().state();
-    Sample sample;
-    sample.t = now.time_s();
-    sample.settlement = wall0 - s.walls[kTopWall].py;
-    if (s.has_network) {
-      const auto p = s.net.flow.pressure();
-      const auto vp = s.net.flow.pore_volume();
-      double pv = 0.0, v = 0.0;
-      for (std::size_t d = 0; d < s.net.domains.num_domains(); ++d) {
-        pv += p[d] * vp[d];
-        v += vp[d];
-      }
-      sample.mean_pressure = pv / v;
-    }
-    if (s.moves()) {
-      const double width = s.walls[2].px - s.walls[1].px;
-      const double pore = s.wall_pore_force.empty() ? 0.0 : s.wall_pore_force[kTopWall];
-      sample.top_stress = (s.contacts->wall_loads()[kTopWall].normal_force + pore) / width;
-    }
-    samples.push_back(sample);
-    if (getenv("V17DEBUG") && now.step() % 200 == 0 && s.moves()) {
-      const double width = s.walls[2].px - s.walls[1].px;
-      std::printf("dbg t %.5f settle %.4g p %.5g contact %.5g pore %.5g\n", now.time_s(),
-                  sample.settlement, sample.mean_pressure,
-                  s.contacts->wall_loads()[kTopWall].normal_force / width,
-                  s.wall_pore_force.empty() ? 0.0 : s.wall_pore_force[kTopWall] / width);
-    }
-  };
-  record(sim);
-  RunControl control;
-  control.at_step_end = [&](const Simulation& now) {
-    if (now.step() % every == 0 || now.finished()) record(now);
-    if (isochrones != nullptr && now.step() % every == 0)
-      isochrones->push_back(MeasureIsochrone(now));
-  };
-  const Status status = sim.Run(control);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return samples;
-}
-
-// The walled column's own vertical permeability: steady flow from a drained base platen at dp to
-// the top platen at 0 through the resting column (no load, no coupling), k = mu Q H / (W dp).
-// The walls change the hydraulics next to them (the pores along the side walls are larger and
-// their feet are pipes of length R), so k is measured with them. A thin fluid brings the column
-// to steady flow in a few hundred steps; k does not depend on mu.
-double WalledPermeability(const SceneSpec& column) {
-  constexpr double kThin = 1e-2;  // viscosity factor
-  constexpr double kDp = 1e3;     // Pa
-  SceneSpec s = column;
-  s.fluid.viscosity_pa_s = kThin * column.fluid.viscosity_pa_s;
-  s.solver.end_time_s = 3e-3;
-  WallsEffectSpec walls;
-  walls.walls = {Drained(SideWall(WallSide::kBottom), kDp, kPlatenConductance),
-                 SideWall(WallSide::kLeft), SideWall(WallSide::kRight),
-                 Drained(SideWall(WallSide::kTop), 0.0, kPlatenConductance)};
-  s.effects = {Contacts(kCoupledDtSafety), walls, FlowEffectSpec{}};
-  Result<Simulation> created = Simulation::Create(s);
-  EXPECT_TRUE(created.ok()) << created.status().message();
-  if (!created.ok()) return 0.0;
-  Simulation& sim = *created;
-  EXPECT_TRUE(sim.Run({}).ok());
-  const LiveState& state = sim.stepper().state();
-  const FlowNetwork& flow = state.net.flow;
-  const std::int32_t top = state.net.wall_node[kTopWall];
-  double q = 0.0;
-  for (std::size_t p = 0; p < flow.num_pipes(); ++p) {
-    if (flow.pipe_domain_b()[p] != top) continue;
-    const auto a = static_cast<std::size_t>(flow.pipe_domain_a()[p]);
-    q += flow.pipe_conductance()[p] *
-         (flow.pressure()[a] - flow.pressure()[static_cast<std::size_t>(top)]);
-  }
-  const double height = state.walls[kTopWall].py - state.walls[kBottomWall].py;
-  const double width = state.walls[2].px - state.walls[1].px;
-  return s.fluid.viscosity_pa_s * q * height / (width * kDp);
-}
-
-// Mean of `field` over the samples with t in [from, to].
-template <typename Field>
-double WindowMean(const std::vector<Sample>& samples, double from, double to, Field field) {
-  double sum = 0.0;
-  int count = 0;
-  for (const Sample& s : samples) {
-    if (s.t >= from && s.t <= to) {
-      sum += field(s);
-      ++count;
-    }
-  }
-  return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
-}
-
-// Settlement at time t, linear between samples.
-double SettlementAt(const std::vector<Sample>& samples, double t) {
-  for (std::size_t k = 1; k < samples.size(); ++k) {
-    if (samples[k].t >= t) {
-      const Sample& a = samples[k - 1];
-      const Sample& b = samples[k];
-      return a.settlement + (b.settlement - a.settlement) * (t - a.t) / (b.t - a.t);
-    }
-  }
-  return samples.back().settlement;
-}
-
-// The DEM is bit-identical on any thread count (dem_parallel.h); on a shared two-core machine its
-// OpenMP barriers spin for most of a step of this 400-disk column (30x slower measured), so the
-// test runs it on one thread.
-class OneThread {
- public:
-  OneThread() : before_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~OneThread() { omp_set_num_threads(before_); }
-
- private:
-  int before_;
-};
-
 TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
   const OneThread one_thread;
 
@@ -303,7 +148,7 @@ TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
 
   // 2. k: steady flow between two drained platens through the walled column at rest; the same
   // packing's permeameter without walls (frozen, open ends) for comparison.
-  const double k = WalledPermeability(ColumnScene(kViscosity, 0.0));
+  const double k = terzaghi_probe::WalledPermeability(ColumnScene(kViscosity, 0.0), kPlatenConductance);
   SceneSpec permeameter = ColumnScene(kViscosity, 0.0);
   permeameter.effects.clear();
   permeameter.solver.kind = SolverKind::kSteady;
@@ -356,12 +201,8 @@ TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
   ASSERT_FALSE(HasFailure());
   // The servo puts the load on over ~2 ms (Tv ~ 0.03): the instantaneous-load solution holds
   // from the load history's centroid t0 = integral of (1 - sigma(t)/dsigma) dt on.
-  double t0 = 0.0;
-  for (std::size_t j = 1; j < draining.size(); ++j) {
-    const double lag =
-        1.0 - 0.5 * (draining[j].top_stress + draining[j - 1].top_stress) / kLoadStep;
-    t0 += std::max(lag, 0.0) * (draining[j].t - draining[j - 1].t);
-  }
+  const double t0 =
+      LoadCentroid(draining, 0.0, std::numeric_limits<double>::infinity(), 0.0, kLoadStep);
   std::printf("V17: load centroid t0 = %.4g s (Tv %.4f)\n", t0, TimeFactor(terzaghi, t0));
 
   std::printf(

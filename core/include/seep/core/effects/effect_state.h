@@ -10,6 +10,11 @@ namespace seep::core {
 
 struct ContactsEffectState {
   std::uint64_t bonds_broken = 0;
+  // Moments of the broken bonds' midpoints where they broke (their count, sums of x, y, xx, xy,
+  // yy): the fracture's trace and orientation (its principal axis) without keeping every break.
+  std::uint64_t broken_traced = 0;
+  double broken_x = 0.0, broken_y = 0.0;
+  double broken_xx = 0.0, broken_xy = 0.0, broken_yy = 0.0;
 };
 
 struct FlowEffectState {
