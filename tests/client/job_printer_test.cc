@@ -112,6 +112,24 @@ TEST(StageDisplay, UnnamedStageAndSceneWithoutStages) {
   }
 }
 
+// A fork names its parent and the checkpoint step it started from; a parent lists its forks.
+TEST(JobSummary, ShowsParentAndChildren) {
+  v1::Job fork = RunningJob(0.5);
+  fork.set_parent_job_id("j-1111111111111111");
+  fork.set_parent_step(500);
+  fork.add_child_job_ids("j-2222222222222222");
+  fork.add_child_job_ids("j-3333333333333333");
+  const std::string summary = FormatJob(fork);
+  EXPECT_NE(summary.find("\nparent    j-1111111111111111 (step 500)\n"), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("\nchildren  j-2222222222222222, j-3333333333333333\n"),
+            std::string::npos)
+      << summary;
+  const std::string plain = FormatJob(RunningJob(0.5));
+  EXPECT_EQ(plain.find("parent"), std::string::npos) << plain;
+  EXPECT_EQ(plain.find("children"), std::string::npos) << plain;
+}
+
 TEST(Duration, SecondsMinutesHours) {
   EXPECT_EQ(FormatDuration(0.2), "1 s");  // never "0 s" for work that is still left
   EXPECT_EQ(FormatDuration(42.4), "42 s");

@@ -191,6 +191,37 @@ class PackageTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "token_file .*empty-token: is empty"):
             seep.Client(self.seepd.address, token_file=empty)
 
+    def test_ForkContinuesAStagedJob(self):
+        """Client.fork: a staged job's final state continued with a stage more, parent and child
+        linked both ways; a fork whose packing differs, or of a step without a checkpoint, raises
+        InvalidArgument naming the field and queues nothing."""
+        staged = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "service",
+                              "data", "staged_box.textproto")
+        parent = self.client.submit(staged)
+        done = self.client.wait(parent, timeout=120, progress=False)
+        with open(staged) as f:
+            scene = text_format.Parse(f.read(), scene_pb2.Scene())
+        hold = scene.stages.add(name="hold")
+        hold.end.add(duration_s=1e-3)
+        fork = self.client.fork(parent, scene, name="with-hold")
+        final = self.client.wait(fork, timeout=120, progress=False)
+        self.assertEqual(final.name, "with-hold")
+        self.assertEqual(final.parent_job_id, parent)
+        # Unset from_step: the newest checkpoint, a finished job's final state.
+        self.assertEqual(final.parent_step, int(done.result.metrics["steps"]))
+        self.assertEqual(self.client.metrics(fork)["stages_ended"], 4.0)
+        self.assertEqual(list(self.client.job(parent).child_job_ids), [fork])
+        scene.packing.lattice.rows = 9
+        with self.assertRaises(seep.InvalidArgument) as raised:
+            self.client.fork(parent, scene, from_step=final.parent_step)
+        self.assertTrue(raised.exception.details.startswith("scene.packing:"),
+                        raised.exception.details)
+        with self.assertRaises(seep.InvalidArgument) as raised:
+            self.client.fork(parent, scene, from_step=1)
+        self.assertTrue(raised.exception.details.startswith("from_step:"),
+                        raised.exception.details)
+        self.assertEqual(len(json.loads(self.cli("list", "--json"))["jobs"]), 2)
+
     def test_TokenAndTlsAsTheCli(self):
         folder = ARGS.work_dir + "-secure"
         os.makedirs(folder, exist_ok=True)
