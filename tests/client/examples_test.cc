@@ -21,6 +21,15 @@ TEST_F(ClientExamples, EveryExampleSucceedsOnARealSeepd) {
   ASSERT_GE(files.size(), 6u);
   for (const auto& file : files) {
     SCOPED_TRACE(file.filename().string());
+#ifdef SEEP_SANITIZED
+    // Long physics (a minute or more each under AddressSanitizer); the Release suite runs them
+    // here and checks their numbers in tests/service/physics/staged_examples_test.cc.
+    const std::string stem = file.stem().string();
+    if (stem == "anisotropic_fracturing" || stem == "terzaghi_two_steps" ||
+        stem == "biaxial_shear_seepage") {
+      continue;
+    }
+#endif
     std::ifstream in(file);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (text.find("\naxes {") != std::string::npos) {
