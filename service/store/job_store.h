@@ -226,6 +226,8 @@ class JobStore {
   Result<SweepRecord> GetSweepLocked(const std::string& id);
   Status ReadLabelsLocked(std::vector<JobRecord>& jobs);
   Status ReadResultSeriesLocked(JobRecord& job);
+  // Records (or replaces) one checkpoint row of job `id`, inside the caller's transaction.
+  Status InsertCheckpointLocked(const std::string& id, const CheckpointRecord& checkpoint);
   // The ids of the jobs forked from `id`, oldest first.
   Result<std::vector<std::string>> ChildJobIdsLocked(const std::string& id);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);

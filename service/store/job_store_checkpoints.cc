@@ -90,14 +90,7 @@ constexpr const char* kCheckpointColumns = "step, time_s, path, bytes, attempt, 
 
 }  // namespace
 
-Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::string& id,
-                                                                 std::int64_t epoch,
-                                                                 const CheckpointRecord& checkpoint,
-                                                                 std::uint32_t keep) {
-  const StoreOperation operation("record checkpoint");
-  std::lock_guard lock(mutex_);
-  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
-  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+Status JobStore::InsertCheckpointLocked(const std::string& id, const CheckpointRecord& checkpoint) {
   SEEP_ASSIGN_OR_RETURN(
       Stmt insert,
       db_->Prepare(fmt::format("INSERT OR REPLACE INTO checkpoints (job_id, {}) VALUES (?, ?, ?, "
@@ -110,7 +103,18 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
       .Bind(5, checkpoint.bytes)
       .Bind(6, static_cast<std::int64_t>(checkpoint.attempt))
       .Bind(7, checkpoint.created_at_ms);
-  SEEP_RETURN_IF_ERROR(insert.Run());
+  return insert.Run();
+}
+
+Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::string& id,
+                                                                 std::int64_t epoch,
+                                                                 const CheckpointRecord& checkpoint,
+                                                                 std::uint32_t keep) {
+  const StoreOperation operation("record checkpoint");
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_RETURN_IF_ERROR(InsertCheckpointLocked(id, checkpoint));
   // The records beyond the newest `keep` (keep >= 1: the one just written always stays).
   SEEP_ASSIGN_OR_RETURN(
       Stmt old, db_->Prepare(fmt::format("DELETE FROM checkpoints WHERE job_id = ? AND step NOT IN "

@@ -16,17 +16,7 @@ Result<InsertOutcome> JobStore::InsertFork(const JobRecord& job, const Checkpoin
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(InsertOutcome outcome, InsertLocked(job));
   if (!outcome.created) return outcome;  // its checkpoint was recorded with it the first time
-  SEEP_ASSIGN_OR_RETURN(Stmt insert,
-                        db_->Prepare("INSERT INTO checkpoints (job_id, step, time_s, path, bytes, "
-                                     "attempt, created_at_ms) VALUES (?, ?, ?, ?, ?, ?, ?)"));
-  insert.Bind(1, std::string_view(job.id))
-      .Bind(2, static_cast<std::int64_t>(start.step))
-      .Bind(3, start.time_s)
-      .Bind(4, std::string_view(StoredCheckpointPath(start.path)))
-      .Bind(5, start.bytes)
-      .Bind(6, static_cast<std::int64_t>(start.attempt))
-      .Bind(7, start.created_at_ms);
-  SEEP_RETURN_IF_ERROR(insert.Run());
+  SEEP_RETURN_IF_ERROR(InsertCheckpointLocked(job.id, start));
   SEEP_RETURN_IF_ERROR(AddEventLocked(
       *db_, job.id, start.created_at_ms, "CHECKPOINT",
       fmt::format("step {} (t = {} s), {} bytes: job {}'s checkpoint, copied as this fork's start",

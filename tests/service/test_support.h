@@ -24,24 +24,24 @@ inline std::filesystem::path FreshTestDir(const std::string& prefix) {
   return dir;
 }
 
-// An example scene of the repository (examples/<file>, text format).
-inline v1::Scene ExampleScene(const std::string& file) {
+// A text-format scene file, parsed (the test fails when it does not parse).
+inline v1::Scene SceneFile(const std::string& path) {
   v1::Scene scene;
-  std::ifstream in(std::string(SEEP_EXAMPLES_DIR) + "/" + file);
+  std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();
-  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene)) << file;
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene)) << path;
   return scene;
 }
 
-// A scene of the service tests' own (tests/service/data/<file>, text format).
+// An example scene of the repository (examples/<file>).
+inline v1::Scene ExampleScene(const std::string& file) {
+  return SceneFile(std::string(SEEP_EXAMPLES_DIR) + "/" + file);
+}
+
+// A scene of the service tests' own (tests/service/data/<file>).
 inline v1::Scene TestDataScene(const std::string& file) {
-  v1::Scene scene;
-  std::ifstream in(std::string(SEEP_SERVICE_TEST_DATA_DIR) + "/" + file);
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene)) << file;
-  return scene;
+  return SceneFile(std::string(SEEP_SERVICE_TEST_DATA_DIR) + "/" + file);
 }
 
 }  // namespace seep::testing

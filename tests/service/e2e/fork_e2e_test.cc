@@ -6,11 +6,10 @@
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "../test_support.h"
 #include "seep/v1/scene.pb.h"
 #include "seepd_fixture.h"
 
@@ -27,14 +26,7 @@ class ForkE2eTest : public SeepdFixture {
     return {"--checkpoint-every-steps", "500", "--checkpoints-kept", "100"};
   }
 
-  static v1::Scene StagedBox() {
-    std::ifstream in(std::string(SEEP_SERVICE_TEST_DATA_DIR) + "/staged_box.textproto");
-    std::stringstream text;
-    text << in.rdbuf();
-    v1::Scene scene;
-    EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text.str(), &scene));
-    return scene;
-  }
+  static v1::Scene StagedBox() { return TestDataScene("staged_box.textproto"); }
   std::string WriteScene(const std::string& name, const v1::Scene& scene) {
     std::string text;
     EXPECT_TRUE(google::protobuf::TextFormat::PrintToString(scene, &text));

@@ -12,6 +12,14 @@
 namespace seep::service {
 namespace {
 
+// What migrations v11 and v10 added, taken away again (before a PRAGMA user_version).
+constexpr const char* kWithoutV11 =
+    "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
+    "ALTER TABLE jobs DROP COLUMN parent_step; ";
+constexpr const char* kWithoutV10 =
+    "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
+    "ALTER TABLE jobs DROP COLUMN stage_name; ";
+
 class StoreOperations : public JobStoreTest {
  protected:
   // Claims job `id` (queued alone) and records checkpoints at `steps`, `bytes` each, under the
@@ -51,6 +59,16 @@ class StoreOperations : public JobStoreTest {
     sqlite3_finalize(stmt);
     sqlite3_close(db);
     return out;
+  }
+  // Closes the store, runs `sql` on its database (to make it what an older seepd left) and opens
+  // it again, which migrates it to the current schema.
+  void ReopenAfter(const std::string& sql) {
+    store_.reset();
+    RawExec(sql);
+    auto reopened = JobStore::Open(path_);
+    ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+    store_ = std::move(*reopened);
+    EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
   }
   void RawExec(const std::string& sql) const {
     sqlite3* db = nullptr;
@@ -95,22 +113,18 @@ TEST_F(StoreOperations, CheckpointPathsAreStoredRelativeAndFollowAMovedDataFolde
 TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   ClaimWithCheckpoints("j-1", {5});
-  store_.reset();
-  RawExec(
-      "INSERT INTO jobs (id, name, state, scene, build_id, created_at_ms) VALUES ('j-2', 'n', "
-      "'FAILED', x'00', 'b', 1);"
-      "UPDATE checkpoints SET path = '/old/place/seep-data/checkpoints/j-1/ckpt-000000000005.bin';"
-      "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
-      "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
-      "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);"
-      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
-      "ALTER TABLE jobs DROP COLUMN parent_step; "
-      "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
-      "ALTER TABLE jobs DROP COLUMN stage_name; DROP TABLE sweep_jobs; DROP TABLE sweeps; "
-      "DROP TABLE job_labels; DROP INDEX jobs_by_finished; PRAGMA user_version = 6;");
-  auto reopened = JobStore::Open(path_);
-  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
-  store_ = std::move(*reopened);
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(
+      std::string(
+          "INSERT INTO jobs (id, name, state, scene, build_id, created_at_ms) VALUES ('j-2', "
+          "'n', 'FAILED', x'00', 'b', 1);"
+          "UPDATE checkpoints SET path = "
+          "'/old/place/seep-data/checkpoints/j-1/ckpt-000000000005.bin';"
+          "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
+          "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
+          "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);") +
+      kWithoutV11 + kWithoutV10 +
+      "DROP TABLE sweep_jobs; DROP TABLE sweeps; DROP TABLE job_labels; DROP INDEX "
+      "jobs_by_finished; PRAGMA user_version = 6;"));
   EXPECT_EQ(RawText("SELECT path FROM checkpoints WHERE step = 5"),
             "checkpoints/j-1/ckpt-000000000005.bin");
   EXPECT_EQ(RawText("SELECT path FROM checkpoints WHERE step = 7"),
@@ -118,7 +132,6 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
   EXPECT_EQ(RawText("SELECT path FROM checkpoints WHERE step = 9"), "/somewhere/else.bin");
   EXPECT_EQ(store_->ListCheckpoints("j-1")->at(1).path,
             (dir_ / "checkpoints" / "j-1" / "ckpt-000000000005.bin").string());
-  EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
 }
 
 // A database from before v10 has no stage columns: its jobs read back without a stage, and a
@@ -127,16 +140,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   const std::int64_t epoch = ClaimWithCheckpoints("j-1", {});
   ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, JobProgress::At(4, 0.5, 0.25, 0)).ok());
-  store_.reset();
-  RawExec(
-      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
-      "ALTER TABLE jobs DROP COLUMN parent_step; "
-      "ALTER TABLE jobs DROP COLUMN stage_index; ALTER TABLE jobs DROP COLUMN stage_count; "
-      "ALTER TABLE jobs DROP COLUMN stage_name; PRAGMA user_version = 9;");
-  auto reopened = JobStore::Open(path_);
-  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
-  store_ = std::move(*reopened);
-  EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
+  ASSERT_NO_FATAL_FAILURE(
+      ReopenAfter(std::string(kWithoutV11) + kWithoutV10 + "PRAGMA user_version = 9;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_EQ(old->progress.step, 4u);
@@ -158,14 +163,7 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
 // can be stored after the migration.
 TEST_F(StoreOperations, MigrationElevenAddsTheParentColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
-  store_.reset();
-  RawExec(
-      "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
-      "ALTER TABLE jobs DROP COLUMN parent_step; PRAGMA user_version = 10;");
-  auto reopened = JobStore::Open(path_);
-  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
-  store_ = std::move(*reopened);
-  EXPECT_EQ(RawText("PRAGMA user_version"), std::to_string(JobStore::kSchemaVersion));
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV11) + "PRAGMA user_version = 10;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_FALSE(old->parent_job_id.has_value());
