@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "codec/effect_codec.h"
+#include "codec/region_codec.h"
 #include "codec/stage_codec.h"
 #include "codec/state_size_estimate.h"
 
@@ -196,6 +197,10 @@ Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
   spec.aperture = {scene.aperture().residual_aperture_m(), scene.aperture().reference_force_n(),
                    scene.aperture().gap_multiplier(), scene.aperture().max_aperture_m()};
   SEEP_ASSIGN_OR_RETURN(spec.boundary, BoundaryFromProto(scene.boundary()));
+  for (int k = 0; k < scene.boundary().regions_size(); ++k) {
+    SEEP_RETURN_IF_ERROR(AppendRegionFromProto(
+        scene.boundary().regions(k), static_cast<std::size_t>(k), &spec.boundary.regions));
+  }
   SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver()));
   for (int k = 0; k < scene.effects_size(); ++k) {
     SEEP_RETURN_IF_ERROR(

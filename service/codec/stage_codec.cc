@@ -133,6 +133,15 @@ core::Status AppendStageFromProto(const v1::Stage& stage, std::size_t index,
     SEEP_RETURN_IF_ERROR(WallFromProto(stage.walls(k), fmt::format("{}.walls[{}]", path, k),
                                        &spec.walls[static_cast<std::size_t>(k)]));
   }
+  spec.regions.resize(static_cast<std::size_t>(stage.regions_size()));
+  for (int k = 0; k < stage.regions_size(); ++k) {
+    const v1::StageRegion& region = stage.regions(k);
+    core::StageRegionSpec& target = spec.regions[static_cast<std::size_t>(k)];
+    target.region = region.region();
+    SEEP_RETURN_IF_ERROR(SettingFromProto(region.has_value(), region.value(),
+                                          fmt::format("{}.regions[{}].value", path, k),
+                                          &target.value));
+  }
   for (int k = 0; k < stage.end_size(); ++k) {
     SEEP_RETURN_IF_ERROR(
         AppendEndFromProto(stage.end(k), fmt::format("{}.end[{}]", path, k), &spec.end));

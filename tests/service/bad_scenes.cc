@@ -33,6 +33,17 @@ v1::Wall* SegmentWall(v1::Scene& scene) {
   return wall;
 }
 
+// Adds a valid boundary region (a circle at 1e5 Pa) for the cases below to break.
+v1::BoundaryRegion* CircleRegion(v1::Scene& scene, const char* name) {
+  v1::BoundaryRegion* region = scene.mutable_boundary()->add_regions();
+  region->set_name(name);
+  region->mutable_circle()->set_cx_m(0.002);
+  region->mutable_circle()->set_cy_m(0.002);
+  region->mutable_circle()->set_r_m(0.001);
+  region->set_pressure_pa(1e5);
+  return region;
+}
+
 }  // namespace
 
 const std::vector<BadScene>& CommonBadScenes() {
@@ -202,6 +213,22 @@ const std::vector<BadScene>& CommonBadScenes() {
        },
        "scene.effects[1].walls.walls[0].x0_m: a wall given by its end points cannot bound the "
        "fluid"},
+      {"RegionWithoutShape", [](v1::Scene& s) { CircleRegion(s, "a")->clear_circle(); },
+       "scene.boundary.regions[0]: set one shape (box, circle, half_plane, polygon)"},
+      {"RegionWithoutCondition", [](v1::Scene& s) { CircleRegion(s, "a")->clear_pressure_pa(); },
+       "scene.boundary.regions[0]: set one condition (pressure_pa, flux_m2_s)"},
+      {"RegionNameWithCapitals", [](v1::Scene& s) { CircleRegion(s, "Outlet"); },
+       "scene.boundary.regions[0].name: only a-z, 0-9 and _"},
+      {"RegionCircleWithoutRadius",
+       [](v1::Scene& s) { CircleRegion(s, "a")->mutable_circle()->set_r_m(0); },
+       "scene.boundary.regions[0].circle.r_m: must be a finite number > 0"},
+      {"RegionsOverlapWithDifferentConditions",
+       [](v1::Scene& s) {
+         CircleRegion(s, "a");
+         CircleRegion(s, "b")->set_flux_m2_s(1e-7);
+       },
+       "scene.boundary.regions[1] ('b'): overlaps regions[0] ('a') with a different condition; "
+       "a domain in both would have two"},
   };
   return scenes;
 }

@@ -7,10 +7,12 @@
 #include <span>
 
 #include "network_report.h"
+#include "platen_permeameter.h"
 #include "seep/core/effects/effect_set.h"
 #include "seep/core/effects/volume_change_effect.h"
 #include "seep/core/flow/steady_state_solver.h"
 #include "seep/core/flow/time_step_limit.h"
+#include "seep/core/network/boundary_regions.h"
 #include "seep/core/network/fluid_boundaries.h"
 
 namespace seep::core {
@@ -66,7 +68,8 @@ void FlowEffect::Book(FluidLedger& ledger) {
   ledger.injected_m2 += tally_.source_m2;
   ledger.compressed_m2 += tally_.compressed_m2;
   ledger.pore_growth_m2 += tally_.pore_growth_m2;
-  ledger.handled_m2 += tally_.source_m2 + tally_.boundary_gross_m2;
+  // A flux region that extracts is a negative source: what it moved counts all the same.
+  ledger.handled_m2 += std::abs(tally_.source_m2) + tally_.boundary_gross_m2;
   for (const auto& [node, boundary] : boundary_nodes_) {
     double& out = tally_.node_outflow_m2[static_cast<std::size_t>(node)];
     ledger.left_m2[static_cast<std::size_t>(boundary)] += out;
@@ -81,8 +84,9 @@ Status FlowEffect::Rebind(LiveState& s) {
 }
 
 Status FlowEffect::Reconfigure(LiveState& s) {
-  if (s.has_network) SetBoundaryPressures(*s.scene, &s.net);
-  return Status::Ok();
+  if (!s.has_network) return Status::Ok();
+  SetBoundaryPressures(*s.scene, &s.net);
+  return SetRegionConditions(*s.scene, &s.net);
 }
 
 Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
@@ -92,6 +96,10 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     mode_ = FlowMode::kSubCycled;
   } else {
     mode_ = scene.solver.kind == SolverKind::kSteady ? FlowMode::kSteady : FlowMode::kStepped;
+  }
+  if (const auto pair = effects_internal::FindPlatenPair(scene)) {
+    platens_ = std::pair{pair->high, pair->low};
+    platens_along_x_ = pair->along_x;
   }
   weight_ = SceneFluidWeight(scene);
   SEEP_RETURN_IF_ERROR(RefreshFluidWeight(s));
@@ -212,14 +220,26 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
   effects_internal::AddNetworkMetrics(*s.scene, s.net, ReportedPoreVolumes(s, volume_change_),
                                       node_weight_, m);
   if (mode_ != FlowMode::kSteady) AddLedgerMetrics(boundary_names_, s.books.ledger, m);
+  if (platens_) {
+    if (const double k = PlatenPermeability(s); std::isfinite(k)) {
+      (*m)["platen_permeability_m2"] = k;
+    }
+  }
+}
+
+double FlowEffect::PlatenPermeability(const LiveState& s) const {
+  return effects_internal::PlatenPermeability(
+      s, {platens_->first, platens_->second, platens_along_x_});
 }
 
 void FlowEffect::AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const {
   effects_internal::AddNetworkSeriesColumns(*s.scene, columns);
+  if (platens_) columns->push_back("platen_permeability_m2");
 }
 
 void FlowEffect::AddSample(const LiveState& s, std::vector<double>* row) const {
   effects_internal::AddNetworkSample(*s.scene, s.net, s.books.step_error, row);
+  if (platens_) row->push_back(PlatenPermeability(s));
 }
 
 }  // namespace seep::core

@@ -1,5 +1,7 @@
 #include "network_report.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -71,6 +73,28 @@ void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
   AddPressureRange(net.flow, m);
 }
 
+// Per boundary region: region_<name>_domains, the domains it holds now, and
+// region_<name>_flow_m2_per_s: for a pressure region the net rate out of the sample into it
+// (> 0: it drains the sample, like fluid_left_region_<name>_m2; flow between two of its domains,
+// both fixed, is not counted), for a flux region the rate its domains receive (> 0: it injects;
+// its rate_m2_s, or 0 while it holds no domain).
+void AddRegionMetrics(const SceneSpec& scene, const SceneNetwork& net, Metrics& m) {
+  const auto& regions = scene.boundary.regions;
+  if (regions.empty()) return;
+  const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
+  const std::span<const double> source_rate = net.flow.source_rate();
+  for (std::size_t r = 0; r < regions.size() && r < net.regions.size(); ++r) {
+    const std::vector<std::int32_t>& nodes = net.regions[r].nodes;
+    const bool pressure = std::holds_alternative<FixedPressure>(regions[r].condition);
+    double flow = 0.0;
+    for (const std::int32_t d : nodes) {
+      flow += pressure ? NodeOutflow(fluxes, d) : source_rate[static_cast<std::size_t>(d)];
+    }
+    m[fmt::format("region_{}_flow_m2_per_s", regions[r].name)] = flow;
+    m[fmt::format("region_{}_domains", regions[r].name)] = static_cast<double>(nodes.size());
+  }
+}
+
 }  // namespace
 
 void AddNetworkSeriesColumns(const SceneSpec& scene, std::vector<std::string>* columns) {
@@ -101,6 +125,7 @@ void AddNetworkMetrics(const SceneSpec& scene, const SceneNetwork& net,
   } else {
     AddDarcyMetrics(scene, net, node_weight, *m);
   }
+  AddRegionMetrics(scene, net, *m);
   double pore = 0.0;
   double apparent = 0.0;
   const std::span<const double> apparent_volume = net.flow.apparent_volume();

@@ -18,10 +18,11 @@ void AddNetworkSeriesColumns(const SceneSpec& scene, std::vector<std::string>* c
 void AddNetworkSample(const SceneSpec& scene, const SceneNetwork& net, double step_error,
                       std::vector<double>* row);
 
-// Boundary rates, permeability (linear) or well figures (radial), pressure range, counts and
-// porosity_2d from `pore_volume` (the V_p a report shows, per flow node). node_weight: W_n per
-// flow node when the fluid has weight (network/fluid_weight.h), else empty; the permeability is
-// then measured against the head drop between the reservoirs, not the pressure drop.
+// Boundary rates, permeability (linear) or well figures (radial), each boundary region's flow
+// and domain count, pressure range, counts and porosity_2d from `pore_volume` (the V_p a report
+// shows, per flow node). node_weight: W_n per flow node when the fluid has weight
+// (network/fluid_weight.h), else empty; the permeability is then measured against the head drop
+// between the reservoirs, not the pressure drop.
 void AddNetworkMetrics(const SceneSpec& scene, const SceneNetwork& net,
                        std::span<const double> pore_volume, std::span<const double> node_weight,
                        Metrics* m);

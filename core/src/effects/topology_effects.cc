@@ -32,6 +32,25 @@ double HeldFluid(const FlowNetwork& flow, const StorageModel& storage, std::int3
   return held;
 }
 
+// A boundary region that lost its last domain at a re-detection, or got one back: allowed (the
+// particles moved; boundary_regions.h), but a flux region then injects nothing, so say so.
+void LogEmptiedRegions(const SceneSpec& scene, const SceneNetwork& before,
+                       const SceneNetwork& after, const StepInfo& info) {
+  const auto& regions = scene.boundary.regions;
+  for (std::size_t r = 0;
+       r < regions.size() && r < before.regions.size() && r < after.regions.size(); ++r) {
+    const bool was = !before.regions[r].nodes.empty();
+    const bool is = !after.regions[r].nodes.empty();
+    if (was == is) continue;
+    Logger()->info(
+        "step {} (t = {} s): boundary region {} ('{}') {} at this re-detection", info.step,
+        info.time_s, r, regions[r].name,
+        is ? "holds a domain again"
+           : "holds no domain any more (no free domain's centroid lies in it); its condition "
+             "acts on nothing until one does");
+  }
+}
+
 class RedetectionEffect final : public Effect {
  public:
   RedetectionEffect() : Effect(kEffectKind<RedetectionEffectSpec>) {}
@@ -84,14 +103,15 @@ class RedetectionEffect final : public Effect {
     SEEP_ASSIGN_OR_RETURN(
         const PressureRemapReport report,
         RemapPressures(s.net.domains, s.net.flow.pressure(), fresh.domains, options, &remapped));
-    // Free domains take the remapped pressure; a well under injection too (it is a source, and
-    // its fluid is part of the balance); fixed nodes keep the boundary value.
+    // Free domains take the remapped pressure; sources (a flux region's domains) and a well
+    // under injection too (a source from the injection's re-bind on; their fluid is part of the
+    // balance); fixed nodes keep the boundary value.
     const auto roles = fresh.flow.role();
     auto pressure = fresh.flow.mutable_pressure();
     for (std::size_t d = 0; d < remapped.size(); ++d) {
       const bool injected_well =
           injected_well_ && static_cast<std::int32_t>(d) == fresh.well_domain;
-      if (roles[d] == DomainRole::kFree || injected_well) pressure[d] = remapped[d];
+      if (roles[d] != DomainRole::kFixedPressure || injected_well) pressure[d] = remapped[d];
     }
     PocketPressures(fresh.flow, report.unmatched_new_domains, pressure);
     // What the re-description created or destroyed: the fluid the free and source domains hold
@@ -121,6 +141,7 @@ class RedetectionEffect final : public Effect {
           "from now on",
           info.step, info.time_s);
     }
+    LogEmptiedRegions(*s.scene, s.net, fresh, info);
     s.net = std::move(fresh);
     s.detection_x = s.particles.x;
     s.detection_y = s.particles.y;

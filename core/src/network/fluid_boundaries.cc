@@ -22,6 +22,10 @@ std::size_t ReservoirCount(const SceneSpec& scene) {
   return scene.boundary.walls_only ? 0 : 2;  // inlet/outlet or well/outer
 }
 
+bool IsPressureRegion(const BoundaryRegionSpec& region) {
+  return std::holds_alternative<FixedPressure>(region.condition);
+}
+
 }  // namespace
 
 std::vector<std::string> FluidBoundaryNames(const SceneSpec& scene) {
@@ -42,6 +46,9 @@ std::vector<std::string> FluidBoundaryNames(const SceneSpec& scene) {
     });
     names.push_back(same_side > 1 ? fmt::format("{}_wall_{}", WallSideName(side), w)
                                   : fmt::format("{}_wall", WallSideName(side)));
+  }
+  for (const BoundaryRegionSpec& region : scene.boundary.regions) {
+    if (IsPressureRegion(region)) names.push_back("region_" + region.name);
   }
   return names;
 }
@@ -68,6 +75,14 @@ Result<std::vector<std::int32_t>> FluidBoundaryOfNodes(const SceneSpec& scene,
     if (drained[k] < net.wall_node.size()) {
       mark(net.wall_node[drained[k]], static_cast<std::int32_t>(ReservoirCount(scene) + k));
     }
+  }
+  // Each pressure region is one boundary however many domains it holds (the books add them up).
+  auto boundary = static_cast<std::int32_t>(ReservoirCount(scene) + drained.size());
+  const auto& regions = scene.boundary.regions;
+  for (std::size_t r = 0; r < regions.size() && r < net.regions.size(); ++r) {
+    if (!IsPressureRegion(regions[r])) continue;
+    for (const std::int32_t d : net.regions[r].nodes) mark(d, boundary);
+    ++boundary;
   }
   const auto role = net.flow.role();
   for (std::size_t d = 0; d < n; ++d) {

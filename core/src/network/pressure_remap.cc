@@ -104,6 +104,8 @@ void PocketPressures(const FlowNetwork& flow, std::span<const std::int32_t> pock
     add(b[p], a[p], c[p]);
   }
   for (std::size_t k = 0; k < pockets.size(); ++k) {
+    // A pocket that is a boundary node (a pressure region took it) holds the boundary's value.
+    if (role[static_cast<std::size_t>(pockets[k])] == DomainRole::kFixedPressure) continue;
     const Sums& s = sums[k];
     double& p = pressure[static_cast<std::size_t>(pockets[k])];
     if (s.fixed_c > 0.0) {

@@ -8,6 +8,7 @@
 
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/geometry/random_packing.h"
+#include "seep/core/network/boundary_regions.h"
 #include "seep/core/network/scene_walls.h"
 
 namespace seep::core {
@@ -65,6 +66,15 @@ Status FillConductances(const SceneSpec& scene, const std::vector<double>& gaps,
   data.pipe_conductance.assign(num_pipes, 0.0);
   return FillAperturesAndConductances(law, scene.fluid.viscosity_pa_s, no_force, gaps,
                                       data.pipe_length, data.pipe_aperture, data.pipe_conductance);
+}
+
+// The flow network of `data`, the boundary built: the boundary regions go on top of it (their
+// roles before the network is made, their values after), so every boundary kind, at set-up and
+// at every re-detection, gets them the same way.
+Status CreateFlow(const SceneSpec& scene, FlowNetworkData data, SceneNetwork& net) {
+  AssignBoundaryRegions(scene, net.domains, &data, &net.regions);
+  SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+  return SetRegionConditions(scene, &net);
 }
 
 // Keeps the particles whose centre lies in [well_radius, outer_radius] of the centre of the
@@ -271,8 +281,7 @@ Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
   for (std::size_t k = 0; k < d.num_boundary_pipes() && net.well_domain >= 0; ++k) {
     if (OnWall(d, k) && d.boundary_pipe_domain[k] == net.well_domain) net.well_on_wall = true;
   }
-  SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
-  return Status::Ok();
+  return CreateFlow(scene, std::move(data), net);
 }
 
 }  // namespace
@@ -337,7 +346,9 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
     }
     net.wall_contacts = FindWallContacts(p, net.walls, max_gap);
   }
-  return ConnectSceneNetwork(scene, std::move(net));
+  SEEP_ASSIGN_OR_RETURN(net, ConnectSceneNetwork(scene, std::move(net)));
+  SEEP_RETURN_IF_ERROR(CheckRegionsHoldDomains(scene, net));
+  return net;
 }
 
 void SetBoundaryPressures(const SceneSpec& scene, SceneNetwork* net) {
@@ -371,6 +382,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   net.inlet_node = net.outlet_node = net.well_domain = net.outer_node = -1;
   net.inlet_pipes = net.outlet_pipes = net.outer_pipes = 0;
   net.wall_node.clear();
+  net.regions.clear();
   net.well_on_wall = false;
   const Packing& p = net.packing;
   const std::size_t n = p.size();
@@ -402,7 +414,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
     FlowNetworkData data = DomainsAndInteriorPipes(scene, net, 0, gaps);
     AddDrainedWalls(scene, net, data, gaps);
     SEEP_RETURN_IF_ERROR(FillConductances(scene, gaps, data));
-    SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+    SEEP_RETURN_IF_ERROR(CreateFlow(scene, std::move(data), net));
     return net;
   }
 
@@ -476,7 +488,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   }
   if (scene.boundary.closed_inlet) {
     // One drained end: no through-flow, so no Darcy geometry.
-    SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+    SEEP_RETURN_IF_ERROR(CreateFlow(scene, std::move(data), net));
     return net;
   }
   if (!(weight_sum[0] > 0.0) || !(weight_sum[1] > 0.0)) {
@@ -487,7 +499,7 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
   net.length_m = reservoir_sum[1] / weight_sum[1] - reservoir_sum[0] / weight_sum[0];
   const double face_span = face_sum[1] / count[1] - face_sum[0] / count[0];
   net.width_m = face_span > 0.0 ? domain_area / face_span : 0.0;
-  SEEP_ASSIGN_OR_RETURN(net.flow, FlowNetwork::Create(std::move(data)));
+  SEEP_RETURN_IF_ERROR(CreateFlow(scene, std::move(data), net));
   return net;
 }
 

@@ -41,6 +41,7 @@ void ApplyStage(const StageSpec& stage, double t, StageControls* c) {
     }
     if (w.drain_pressure_pa) wall.drain_pressure_pa = SettingAt(*w.drain_pressure_pa, t);
   }
+  for (const StageRegionSpec& r : stage.regions) set(r.value, &c->regions[r.region]);
 }
 
 template <typename T>
@@ -104,6 +105,9 @@ StageControls ControlsOf(const SceneSpec& scene) {
       c.walls.push_back(wall);
     }
   }
+  for (const BoundaryRegionSpec& region : scene.boundary.regions) {
+    c.regions.push_back(ConditionValue(region.condition));
+  }
   return c;
 }
 
@@ -129,6 +133,10 @@ void WriteControls(const StageControls& c, SceneSpec* scene) {
   if (auto& radial = scene->boundary.radial) {
     radial->well_pressure_pa = c.well_pressure_pa;
     radial->outer_pressure_pa = c.outer_pressure_pa;
+  }
+  auto& regions = scene->boundary.regions;
+  for (std::size_t k = 0; k < regions.size() && k < c.regions.size(); ++k) {
+    SetConditionValue(c.regions[k], &regions[k].condition);
   }
 }
 

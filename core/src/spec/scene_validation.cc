@@ -220,6 +220,7 @@ Status ValidateScene(const SceneSpec& scene) {
     }
   }
   SEEP_RETURN_IF_ERROR(ValidateEffects(scene));
+  SEEP_RETURN_IF_ERROR(ValidateBoundaryRegions(scene));
   return ValidateStages(scene);
 }
 

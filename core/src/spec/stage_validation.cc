@@ -99,6 +99,7 @@ class StageValidator {
     const std::string at = fmt::format("scene.stages[{}]", i);
     SEEP_RETURN_IF_ERROR(ValidateSettings(at, stage));
     SEEP_RETURN_IF_ERROR(ValidateWalls(at, stage));
+    SEEP_RETURN_IF_ERROR(ValidateRegions(at, stage));
     return ValidateEnds(at, stage);
   }
 
@@ -197,6 +198,29 @@ class StageValidator {
         SEEP_RETURN_IF_ERROR(
             ValidateSetting(field + ".drain_pressure_pa", *w.drain_pressure_pa, Range::kFinite));
       }
+    }
+    return Status::Ok();
+  }
+
+  // Each region by its index in boundary.regions, once per stage; any finite pressure or rate.
+  Status ValidateRegions(const std::string& at, const StageSpec& stage) const {
+    const std::size_t count = scene_.boundary.regions.size();
+    std::vector<bool> seen(count, false);
+    for (std::size_t j = 0; j < stage.regions.size(); ++j) {
+      const StageRegionSpec& r = stage.regions[j];
+      const std::string field = fmt::format("{}.regions[{}]", at, j);
+      if (r.region >= count) {
+        return Bad(
+            field + ".region",
+            fmt::format("the scene has {} boundary regions (got index {})", count, r.region));
+      }
+      if (seen[r.region]) {
+        return Bad(field + ".region",
+                   fmt::format("region {} is listed twice in this stage", r.region));
+      }
+      seen[r.region] = true;
+      if (r.value)
+        SEEP_RETURN_IF_ERROR(ValidateSetting(field + ".value", *r.value, Range::kFinite));
     }
     return Status::Ok();
   }

@@ -39,7 +39,8 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
   Status Rebind(LiveState& s) override;
-  // A stage changed a boundary pressure: the fixed nodes take the live scene's values.
+  // A stage changed a boundary pressure or a region's value: the fixed nodes and the regions'
+  // sources take the live scene's values.
   Status Reconfigure(LiveState& s) override;
   Status EndOfStep(LiveState& s, const StepInfo& info) override;
 
@@ -68,6 +69,8 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   Status MapBoundaries(const LiveState& s);
   // Adds the update's tally to the run's books and clears it for the next.
   void Book(FluidLedger& ledger);
+  // k between the two drained platens now (platens_ set).
+  double PlatenPermeability(const LiveState& s) const;
 
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
@@ -84,6 +87,10 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   std::vector<std::string> boundary_names_;  // FluidBoundaryNames of the scene, set at bind
   std::vector<std::pair<std::int32_t, std::int32_t>> boundary_nodes_;
   FluidTally tally_;
+  // Two drained platens facing each other at different pressures: the permeability between them
+  // is reported and sampled (src/effects/platen_permeameter.h). Set at bind.
+  std::optional<std::pair<std::size_t, std::size_t>> platens_;  // (high, low) wall indices
+  bool platens_along_x_ = true;
 };
 
 }  // namespace seep::core

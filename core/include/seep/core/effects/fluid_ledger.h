@@ -3,7 +3,8 @@
 // tally (flow/fluid_tally.h), the re-detection effect what each re-detection created or
 // destroyed; checkpoints carry it, so a resumed run's books are the uninterrupted run's.
 //
-//   injected_m2     sum dt Q_src: the well's injection
+//   injected_m2     sum dt Q_src: the well's injection and the flux regions' rates (< 0: the
+//                   regions extracted more than was injected)
 //   left_m2[b]      what left the sample into boundary b (FluidBoundaryNames order; < 0: came in)
 //   compressed_m2   sum V_s dP / K_f over the free and source domains, update by update
 //   pore_growth_m2  sum dV over them (fluid taken up by the pores opening)

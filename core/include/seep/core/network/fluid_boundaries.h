@@ -6,7 +6,9 @@
 //                     boundary), "outer" (the outer reservoir)
 //   drained walls     "<side>_wall" per drained wall, in the walls effect's order
 //                     ("<side>_wall_<w>" when two drained walls share a side)
-// A walls-only boundary has only its drained walls.
+//   boundary regions  "region_<name>" per pressure region, in the scene's order, after the
+//                     rest (a flux region's domains are sources: what they take is injected)
+// A walls-only boundary has only its drained walls (and regions).
 #pragma once
 
 #include <cstdint>

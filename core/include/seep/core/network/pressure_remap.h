@@ -59,7 +59,8 @@ struct PressureRemapReport {
 // A pocket born by a re-detection (an unmatched new domain) was part of the outside until a new
 // contact closed it: it takes the pressure of what it opened into, the conductance-weighted mean
 // of the fixed-pressure nodes its pipes reach (a reservoir, a drained wall, a fixed well), else of
-// its neighbours that are not pockets; with neither it keeps the pressure it has. `pressure` is
+// its neighbours that are not pockets; with neither it keeps the pressure it has. A pocket that is
+// a fixed-pressure node (a boundary region's) keeps its boundary value. `pressure` is
 // the new flow network's, remapped. Pockets do not count as each other's neighbours, so the
 // result does not depend on the order they are visited in.
 void PocketPressures(const FlowNetwork& flow, std::span<const std::int32_t> pockets,

@@ -22,6 +22,11 @@
 // per drained wall, after the other reservoir nodes). Hull contacts where no wall is keep the
 // rules above; a walls-only boundary (BoundarySpec::walls_only) has no other reservoir.
 //
+// Boundary regions (BoundarySpec::regions) come last, on whichever boundary was built: the
+// domains it left free whose centroid lies in a region's shape take the region's pressure or
+// share its rate (boundary_regions.h). The linear and radial boundaries keep their reservoir
+// nodes whatever regions there are: the Darcy geometry below rests on them.
+//
 // Darcy geometry of the sample, for the permeability k = mu Q L / (H dP):
 //   length_m   distance along the axis between the two reservoirs' effective positions. A
 //              reservoir pipe stands for the bond to a missing neighbour domain beyond the hull;
@@ -58,6 +63,13 @@ struct ReservoirPipe {
   bool inlet = false;    // else the outlet
   double face_m = 0.0;   // axis coordinate of the hull contact point
   double image_m = 0.0;  // axis coordinate of the interior centroid reflected through it
+};
+
+// The domains one boundary region holds at a detection (network/boundary_regions.h).
+struct RegionNodes {
+  std::vector<std::int32_t> nodes;    // the domains it controls, ascending
+  double apparent_volume_m2 = 0.0;    // sum V_d over them at detection: a flux region's split
+  std::int64_t centroids_inside = 0;  // every domain centroid in its shape, boundary nodes too
 };
 
 struct SceneNetwork {
@@ -100,13 +112,17 @@ struct SceneNetwork {
   double well_x_m = 0.0;  // the well centre (centre of the full packing's bounding box)
   double well_y_m = 0.0;
   double outer_reservoir_radius_m = 0.0;  // effective radius of the outer reservoir
+  // Per boundary region of the scene (BoundarySpec::regions, in order): the domains it holds.
+  std::vector<RegionNodes> regions;
 };
 
 // Builds the packing a scene describes (lattice, random or an explicit list).
 Result<Packing> BuildScenePacking(const PackingSpec& spec);
 
 // Builds the network with apertures from the scene's aperture law at zero contact force (a rigid,
-// unloaded packing: a = a0 + m g). Free domains start at boundary.initial_pressure_pa.
+// unloaded packing: a = a0 + m g). Free domains start at boundary.initial_pressure_pa. At set-up
+// every boundary region must hold a domain (FAILED_PRECONDITION naming it); a re-detection
+// (ConnectSceneNetwork alone) lets one be empty.
 Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene);
 
 // The second half of BuildSceneNetwork, for a re-detection on moved particles: domains, pipes and
@@ -118,7 +134,8 @@ Result<SceneNetwork> ConnectSceneNetwork(const SceneSpec& scene, SceneNetwork ne
 
 // Sets the fixed-pressure nodes of `net` (inlet, outlet, a well at fixed pressure, the outer
 // reservoir, drained walls' platens) to the pressures `scene` gives them now, as the build did:
-// what a stage that changes a boundary pressure needs between re-detections.
+// what a stage that changes a boundary pressure needs between re-detections. (The boundary
+// regions' pressures and rates: SetRegionConditions, network/boundary_regions.h.)
 void SetBoundaryPressures(const SceneSpec& scene, SceneNetwork* net);
 
 // The storage model of a run on `flow`, the network at set-up: the scene's volume and factor, and

@@ -39,6 +39,8 @@ struct StageControls {
   double well_pressure_pa = 0.0;
   double outer_pressure_pa = 0.0;
   std::vector<Wall> walls;  // per wall of the walls effect
+  // Per boundary region: its pressure_pa or rate_m2_s, whichever its condition is.
+  std::vector<double> regions;
   bool operator==(const StageControls&) const = default;
 };
 

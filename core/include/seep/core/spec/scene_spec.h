@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "seep/core/flow/fluid.h"
+#include "seep/core/spec/boundary_region.h"
 #include "seep/core/spec/effect_spec.h"
 #include "seep/core/spec/stage_spec.h"
 #include "seep/core/status.h"
@@ -105,6 +106,9 @@ struct BoundarySpec {
   bool initial_pressure_hydrostatic = false;
   double initial_pressure_x_m = 0.0;
   double initial_pressure_y_m = 0.0;
+  // Fixed pressures or fluxes on the domains inside shapes, on top of the boundary above (any
+  // kind): boundary_region.h, network/boundary_regions.h.
+  std::vector<BoundaryRegionSpec> regions;
 };
 
 // kImplicit is backward Euler; kCrankNicolson the theta = 1/2 method (second order, oscillates
@@ -185,6 +189,11 @@ Status ValidateEffects(const SceneSpec& scene);
 // each end condition against the effect it watches ("scene.stages[1].end[0].bonds_broken: the
 // scene does not list the bonds effect"), every stage bounded, and solver.end_time_s unset.
 Status ValidateStages(const SceneSpec& scene);
+
+// The boundary regions (boundary_region_validation.cc): names, shapes, finite conditions, and no
+// two regions whose shapes overlap with different conditions, in the scene or in any stage
+// ("scene.boundary.regions[3] ('b'): overlaps regions[1] ('a') with a different condition; ...").
+Status ValidateBoundaryRegions(const SceneSpec& scene);
 
 // Checks every field against its physical range. The first violation is returned; its message
 // starts with the field path.

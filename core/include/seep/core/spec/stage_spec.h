@@ -40,6 +40,13 @@ struct StageWallSpec {
   std::optional<SettingSpec> drain_pressure_pa;    // a drained wall's platen pressure
 };
 
+// Replaces boundary region `region`'s (its index in boundary.regions) pressure_pa or rate_m2_s,
+// whichever its condition is; unset keeps it.
+struct StageRegionSpec {
+  std::uint32_t region = 0;
+  std::optional<SettingSpec> value;
+};
+
 // End conditions; a stage ends at the first step (for scenes with flow: the first flow update,
 // so that the stage's last step closes the fluid's books) at which one of its conditions holds.
 struct DurationEnd {
@@ -90,6 +97,8 @@ struct StageSpec {
   // to the next stage); 0 = none, allowed only when a duration or steps condition bounds it.
   double max_duration_s = 0.0;
   bool continue_at_max_duration = false;
+  // Boundary regions' pressures or rates (after the fields above, which code may list in order).
+  std::vector<StageRegionSpec> regions;
 };
 
 }  // namespace seep::core
