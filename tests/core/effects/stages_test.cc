@@ -17,7 +17,6 @@ namespace {
 
 using effects_test::BoxedLatticeScene;
 using effects_test::Contacts;
-using effects_test::HydrofracScene;
 using effects_test::kRadius;
 using effects_test::Metric;
 using effects_test::MustCreate;
@@ -235,40 +234,6 @@ TEST(Stages, ResumedInsideEachStageEndsBitIdentical) {
     EXPECT_EQ(got.stages->ended_metrics, expected.stages->ended_metrics);
     EXPECT_EQ(got.stages->index, 2u);
   }
-}
-
-// Hydraulic fracturing as a protocol: confine with the well shut in until the servos hold, inject
-// until the well pressure is 20 % past its peak, shut in for 2 ms. The fluid injected is the
-// rate times the injection stage's duration (the rate switched on and off exactly at the stage
-// boundaries), and the books close.
-TEST(Stages, HydraulicFracturingConfineInjectShutIn) {
-  constexpr double kRate = 2e-4;
-  SceneSpec s = HydrofracScene(1e5, 1e5);
-  s.solver.end_time_s = 0.0;
-  for (EffectSpec& e : s.effects) {
-    if (auto* injection = std::get_if<InjectionEffectSpec>(&e)) injection->rate_m2_s = 0.0;
-  }
-  s.stages.push_back(Stage("confine", {ServoHeldEnd{0.05, 5e-4}}, 0.02));
-  StageSpec inject = Stage("inject", {WellPressurePastPeakEnd{0.2}, BreakthroughEnd{}}, 0.05);
-  inject.injection_rate_m2_s = kRate;
-  s.stages.push_back(inject);
-  StageSpec shut_in = Stage("shut-in", {DurationEnd{2e-3}});
-  shut_in.injection_rate_m2_s = 0.0;
-  s.stages.push_back(shut_in);
-  Simulation sim = MustCreate(s);
-  MustRun(sim);
-  const RunReport r = sim.Report();
-  std::printf("HF stages: confine %.4g s, inject %.4g s (ended by %g), breakdown %.4g Pa\n",
-              Metric(r, "stage1_duration_s"), Metric(r, "stage2_duration_s"),
-              Metric(r, "stage2_ended_by"), Metric(r, "breakdown_pressure_pa"));
-  EXPECT_EQ(Metric(r, "stage1_ended_by"), 0.0);
-  EXPECT_EQ(Metric(r, "stage1_fluid_injected_m2"), 0.0);
-  EXPECT_GE(Metric(r, "stage2_ended_by"), 0.0);  // by a condition, not the max duration
-  const double injected = Metric(r, "fluid_injected_m2");
-  EXPECT_NEAR(injected, kRate * Metric(r, "stage2_duration_s"), 1e-12 * injected);
-  EXPECT_EQ(injected, Metric(r, "stage2_fluid_injected_m2"));
-  EXPECT_GT(Metric(r, "stage2_bonds_broken"), 0.0);
-  EXPECT_LE(Metric(r, "fluid_balance_error"), 1e-10);
 }
 
 // Bad stages: each refusal names the field and the reason.
