@@ -122,8 +122,7 @@ TEST(JobSummary, ShowsParentAndChildren) {
   const std::string summary = FormatJob(fork);
   EXPECT_NE(summary.find("\nparent    j-1111111111111111 (step 500)\n"), std::string::npos)
       << summary;
-  EXPECT_NE(summary.find("\nchildren  j-2222222222222222, j-3333333333333333\n"),
-            std::string::npos)
+  EXPECT_NE(summary.find("\nchildren  j-2222222222222222, j-3333333333333333\n"), std::string::npos)
       << summary;
   const std::string plain = FormatJob(RunningJob(0.5));
   EXPECT_EQ(plain.find("parent"), std::string::npos) << plain;
