@@ -37,9 +37,10 @@ int main(int argc, char** argv) {
   app.add_option("--timeout", global.timeout_s, "seconds to wait for each call")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_flag("--json", global.json,
-               "print machine-readable JSON on stdout (submit, show, list, result, watch, cancel, "
-               "resume, delete, events, health, calibrate, calibrations, sweep)");
+  app.add_flag(
+      "--json", global.json,
+      "print machine-readable JSON on stdout (submit, fork, show, list, result, watch, cancel, "
+      "resume, delete, events, health, calibrate, calibrations, sweep)");
   app.add_option("--token", global.token,
                  "bearer token for a seepd started with a token (visible in ps: prefer "
                  "SEEP_TOKEN or --token-file)")
