@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # README command 1: install, build, start seepd on loopback with its database in ./seep-data,
-# submit the demo job with the seep CLI, show its progress and result, stop seepd cleanly.
+# submit the main job (a staged hydraulic-fracturing test) with the seep CLI, show its progress,
+# result and particle picture, stop seepd cleanly.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,8 +24,16 @@ echo "== seepd is serving on $SEEP_SERVER (database $data_dir/seep.db)"
 
 seep=./build/release/client/seep
 "$seep" health
-echo "== submitting examples/darcy_square_lattice.textproto"
-"$seep" submit examples/darcy_square_lattice.textproto --watch
+# The main job: a coupled laboratory test in stages (confine until the platens hold, inject until
+# breakdown, shut in), about half a minute.
+scene=examples/anisotropic_fracturing.textproto
+echo "== submitting $scene"
+job=$("$seep" --json submit "$scene" | python3 -c 'import json, sys; print(json.load(sys.stdin)["id"])')
+"$seep" watch "$job"
+"$seep" show "$job"
+picture="$data_dir/$job-particles.svg"
+"$seep" plot "$job" --what particles -o "$picture"
+echo "== the particle picture (bonds broken by the fracture in red): $picture"
 echo "== jobs on this server"
 "$seep" list
 
