@@ -82,5 +82,23 @@ TEST_F(ClientExamples, SegmentFunnelLidMovesVT) {
   EXPECT_EQ(metrics["particle_count"].get<double>(), 48.0);
 }
 
+// Two boundary regions: all the fluid the well (a circle at 100 kPa) gives the sample leaves
+// through the drain (a box at 0 Pa over the last column of domains), the sample being closed
+// elsewhere. Conservation is the independent value: the direct solve's residual, about 1e-16 of a
+// pipe's C P_w per domain times the condition number (~1e4 for 1700 unknowns), summed over the
+// domains, leaves ~1e-12 of Q (measured 5e-13). The rate itself is this lattice's (2.5596e-6).
+TEST_F(ClientExamples, RegionsTwoWellsDrainTakesWhatTheWellGives) {
+  const CommandResult run = Seep({"submit", Example("regions_two_wells.textproto"), "--watch"});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto job = Json({"show", JobIdFrom(run.output)});
+  const auto& metrics = job["result"]["metrics"];
+  const double drain = metrics["region_drain_flow_m2_per_s"].get<double>();
+  const double well = metrics["region_well_flow_m2_per_s"].get<double>();
+  EXPECT_NEAR(drain, -well, 1e-11 * drain);
+  EXPECT_NEAR(drain, 2.5595587536e-6, 1e-9 * drain);
+  EXPECT_EQ(metrics["region_well_domains"].get<double>(), 21.0);
+  EXPECT_EQ(metrics["region_drain_domains"].get<double>(), 29.0);
+}
+
 }  // namespace
 }  // namespace seep::testing
