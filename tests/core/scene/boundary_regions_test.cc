@@ -10,8 +10,10 @@
 #include <numbers>
 #include <stop_token>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "../effects/coupled_scenes.h"  // the coupled sample the moving test starts from
 #include "scene_test_util.h"
 #include "seep/core/flow/steady_state_solver.h"
 #include "seep/core/network/scene_network.h"
@@ -310,47 +312,22 @@ TEST(BoundaryRegions, StagesChangeAFluxRegionsRate) {
   }
 }
 
-// A hex lattice in a box of four servo walls drained at 0 Pa, a flux region injecting into its
-// middle and a pressure region at 0 Pa in a corner; the particles move (contacts, fluid forces,
-// volume change, apertures) and the fluid pushes them apart, so contacts open and the domains are
-// re-detected. The fluid is scaled soft (K_f = 1e6 Pa) so that the DEM step is the contacts'.
+// The hydraulic-fracturing sample of the coupled tests (a hex lattice confined by four servo walls
+// drained at 0 Pa, the fluid scaled soft so that the DEM step is the contacts'), without bonds,
+// well or injection: a flux region injects into its middle instead and a pressure region at 0 Pa
+// drains a corner. The fluid pushes the particles apart, so contacts open and the domains are
+// re-detected.
 SceneSpec MovingLatticeWithRegions() {
-  SceneSpec s;
+  SceneSpec s = effects_test::HydrofracScene(1e5, 1e6);
   s.name = "moving regions";
   s.packing.source = LatticePackingSpec{LatticeKind::kHex, 16, 18, kRadius};
-  s.packing.contact_gap_m = 2e-6;
-  s.fluid.viscosity_pa_s = 1e-3;
-  s.fluid.bulk_modulus_pa = 1e6;
-  s.aperture.residual_aperture_m = 1e-6;
-  s.aperture.reference_force_n = 1e2;
-  s.aperture.gap_multiplier = 1.0;
-  s.aperture.max_aperture_m = 1e-4;
+  s.boundary.radial.reset();
   s.boundary.walls_only = true;
-  s.solver.kind = SolverKind::kExplicit;
-  s.solver.storage = StorageVolume::kPore;
-  s.solver.dt_factor = 0.9;
   s.solver.end_time_s = 4e-3;
-  ContactsEffectSpec contacts;
-  contacts.law.kn = 1e8;
-  contacts.law.kt = 5e7;
-  contacts.law.friction = 0.5;
-  contacts.law.damping_mode = NormalDampingMode::kCriticalRatio;
-  contacts.law.damping_ratio = 0.3;
-  contacts.density_kg_m3 = 2650.0;
-  contacts.dt_safety = 0.2;
-  WallsEffectSpec walls;
-  for (const WallSide side :
-       {WallSide::kLeft, WallSide::kRight, WallSide::kBottom, WallSide::kTop}) {
-    walls.walls.push_back(Drained(SideWall(side, 1e5, 0.5, 0.02), 0.0, 1e-10));
-  }
-  s.effects = {contacts,
-               walls,
-               LocalDampingEffectSpec{0.3},
-               FlowEffectSpec{},
-               FluidForcesEffectSpec{},
-               VolumeChangeEffectSpec{},
-               ApertureUpdateEffectSpec{},
-               RedetectionEffectSpec{}};
+  std::erase_if(s.effects, [](const EffectSpec& e) {
+    return std::holds_alternative<BondsEffectSpec>(e) ||
+           std::holds_alternative<InjectionEffectSpec>(e);
+  });
   const double cx = 17.0 * kRadius, cy = (2.0 + std::sqrt(3.0) * 17.0) * kRadius / 2.0;
   s.boundary.regions = {
       Region("inject", CircleShape{cx, cy, 2.5 * kRadius}, FixedFlux{2e-4}),
