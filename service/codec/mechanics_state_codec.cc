@@ -95,8 +95,8 @@ core::DemContactState ContactsFromProto(const v1::DemContactState& p) {
 void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
   out->set_bonds_broken(e.contacts.bonds_broken);
   const core::ContactsEffectState& c = e.contacts;
-  for (const double v : {static_cast<double>(c.broken_traced), c.broken_x, c.broken_y,
-                         c.broken_xx, c.broken_xy, c.broken_yy}) {
+  for (const double v : {static_cast<double>(c.broken_traced), c.broken_x, c.broken_y, c.broken_xx,
+                         c.broken_xy, c.broken_yy}) {
     out->add_broken_bond_moments(v);
   }
   out->set_max_flow_sub_steps(e.flow.max_sub_steps);

@@ -2,12 +2,10 @@
 // damping and walls (fixed or servo-controlled).
 #include <fmt/format.h>
 
-#include <cmath>
-#include <numbers>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "effect_factories.h"
 #include "seep/core/dem/dem_integrator.h"
@@ -81,7 +79,6 @@ class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
   }
 
  public:
-
   void AddMetrics(const LiveState& s, Metrics* m) const override {
     (*m)["bonds_broken"] = static_cast<double>(state_.bonds_broken);
     AddFractureTrace(m);

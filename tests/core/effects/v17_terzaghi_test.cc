@@ -148,7 +148,8 @@ TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
 
   // 2. k: steady flow between two drained platens through the walled column at rest; the same
   // packing's permeameter without walls (frozen, open ends) for comparison.
-  const double k = terzaghi_probe::WalledPermeability(ColumnScene(kViscosity, 0.0), kPlatenConductance);
+  const double k =
+      terzaghi_probe::WalledPermeability(ColumnScene(kViscosity, 0.0), kPlatenConductance);
   SceneSpec permeameter = ColumnScene(kViscosity, 0.0);
   permeameter.effects.clear();
   permeameter.solver.kind = SolverKind::kSteady;
