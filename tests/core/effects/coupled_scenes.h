@@ -105,6 +105,16 @@ inline Simulation ResumedAt(const SceneSpec& scene,
   return resumed;
 }
 
+// A stage that ends on any of `end` (and fails at max_duration_s, 0 = none).
+inline StageSpec Stage(std::string name, std::vector<EndConditionSpec> end,
+                       double max_duration_s = 0.0) {
+  StageSpec s;
+  s.name = std::move(name);
+  s.end = std::move(end);
+  s.max_duration_s = max_duration_s;
+  return s;
+}
+
 inline double Metric(const RunReport& report, const std::string& name) {
   for (const auto& [key, value] : report.metrics) {
     if (key == name) return value;

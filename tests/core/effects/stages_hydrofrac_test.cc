@@ -16,14 +16,7 @@ using effects_test::HydrofracScene;
 using effects_test::Metric;
 using effects_test::MustCreate;
 using effects_test::MustRun;
-
-StageSpec Stage(std::string name, std::vector<EndConditionSpec> end, double max_duration_s = 0.0) {
-  StageSpec s;
-  s.name = std::move(name);
-  s.end = std::move(end);
-  s.max_duration_s = max_duration_s;
-  return s;
-}
+using effects_test::Stage;
 
 // Hydraulic fracturing as a protocol: confine with the well shut in until the servos hold, inject
 // until the well pressure is 20 % past its peak, shut in for 2 ms. The fluid injected is the

@@ -22,17 +22,10 @@ using effects_test::Metric;
 using effects_test::MustCreate;
 using effects_test::MustRun;
 using effects_test::ResumedAt;
+using effects_test::Stage;
 
 constexpr double kTarget = 1e5;  // Pa, the confining stress of the DEM box
 constexpr double kTolerance = 0.02;
-
-StageSpec Stage(std::string name, std::vector<EndConditionSpec> end, double max_duration_s = 0.0) {
-  StageSpec s;
-  s.name = std::move(name);
-  s.end = std::move(end);
-  s.max_duration_s = max_duration_s;
-  return s;
-}
 
 StageWallSpec WallControl(std::uint32_t wall) {
   StageWallSpec w;

@@ -13,30 +13,15 @@
 #include <string>
 
 #include "codec/scene_codec.h"
+#include "example_runs.h"
 #include "seep/core/run/simulation.h"
 #include "test_support.h"
 
 namespace seep {
 namespace {
 
-std::map<std::string, double> RunExample(const v1::Scene& proto) {
-  auto scene = service::SceneFromProto(proto);
-  EXPECT_TRUE(scene.ok()) << scene.status().message();
-  if (!scene.ok()) return {};
-  auto sim = core::Simulation::Create(*scene);
-  EXPECT_TRUE(sim.ok()) << sim.status().message();
-  if (!sim.ok()) return {};
-  const core::Status run = sim->Run({});
-  EXPECT_TRUE(run.ok()) << run.message();
-  const core::RunReport report = sim->Report();
-  return {report.metrics.begin(), report.metrics.end()};
-}
-
-double Metric(const std::map<std::string, double>& m, const std::string& name) {
-  const auto it = m.find(name);
-  EXPECT_NE(it, m.end()) << name;
-  return it == m.end() ? std::nan("") : it->second;
-}
+using physics_test::Metric;
+using physics_test::RunExample;
 
 // reaches_walls: the fracture reaches the platens within the run (breakthrough).
 void ExpectClosedBooks(const v1::Scene& scene, bool reaches_walls) {

@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "codec/scene_codec.h"
+#include "example_runs.h"
 #include "seep/core/reference/terzaghi.h"
 #include "seep/core/run/simulation.h"
 #include "terzaghi_column_probe.h"
@@ -19,24 +20,8 @@
 namespace seep {
 namespace {
 
-std::map<std::string, double> RunExample(const v1::Scene& proto) {
-  auto scene = service::SceneFromProto(proto);
-  EXPECT_TRUE(scene.ok()) << scene.status().message();
-  if (!scene.ok()) return {};
-  auto sim = core::Simulation::Create(*scene);
-  EXPECT_TRUE(sim.ok()) << sim.status().message();
-  if (!sim.ok()) return {};
-  const core::Status run = sim->Run({});
-  EXPECT_TRUE(run.ok()) << run.message();
-  const core::RunReport report = sim->Report();
-  return {report.metrics.begin(), report.metrics.end()};
-}
-
-double Metric(const std::map<std::string, double>& m, const std::string& name) {
-  const auto it = m.find(name);
-  EXPECT_NE(it, m.end()) << name;
-  return it == m.end() ? std::nan("") : it->second;
-}
+using physics_test::Metric;
+using physics_test::RunExample;
 
 // Anisotropic fracturing in stages (examples/anisotropic_fracturing.textproto): the confinement
 // stage ends when the four platens hold sigma_H and sigma_h, the injection stage on the well
