@@ -61,4 +61,13 @@ Result<DemParticles> MakeDemParticles(const Packing& packing, double density) {
   return p;
 }
 
+double KineticEnergy(const DemParticles& p) {
+  double kinetic = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    kinetic += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
+               0.5 * p.inertia[i] * p.omega[i] * p.omega[i];
+  }
+  return kinetic;
+}
+
 }  // namespace seep::core

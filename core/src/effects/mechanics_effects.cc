@@ -83,13 +83,7 @@ class ContactsEffect final : public EffectWithSpec<ContactsEffectSpec> {
     (*m)["bonds_broken"] = static_cast<double>(state_.bonds_broken);
     AddFractureTrace(m);
     (*m)["particle_count"] = static_cast<double>(s.particles.size());
-    double kinetic = 0.0;
-    const DemParticles& p = s.particles;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      kinetic += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
-                 0.5 * p.inertia[i] * p.omega[i] * p.omega[i];
-    }
-    (*m)["kinetic_energy_j_per_m"] = kinetic;
+    (*m)["kinetic_energy_j_per_m"] = KineticEnergy(s.particles);
   }
   void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
     columns->push_back("bonds_broken");
@@ -187,8 +181,6 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
     const std::vector<WallSpec>& live = FindEffect<WallsEffectSpec>(*s.scene)->walls;
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
       servo_[w].target_stress = live[w].servo_stress_pa;
-      spec_.walls[w].servo_stress_pa = live[w].servo_stress_pa;
-      spec_.walls[w].normal_velocity_m_s = live[w].normal_velocity_m_s;
       if (live[w].servo_stress_pa > 0.0) continue;
       const double v = live[w].normal_velocity_m_s.value_or(0.0);
       s.walls[w].vx = v * s.walls[w].nx;

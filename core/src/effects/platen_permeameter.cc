@@ -45,54 +45,47 @@ std::optional<PlatenPair> FindPlatenPair(const SceneSpec& scene) {
 }
 
 double PlatenPermeability(const LiveState& s, const PlatenPair& pair) {
-  const auto& walls = FindEffect<WallsEffectSpec>(*s.scene)->walls;
-  const double dp = walls[pair.high].drain->pressure_pa - walls[pair.low].drain->pressure_pa;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const WallsEffectSpec& spec = *FindEffect<WallsEffectSpec>(*s.scene);
+  const double dp =
+      spec.walls[pair.high].drain->pressure_pa - spec.walls[pair.low].drain->pressure_pa;
   const std::int32_t high = pair.high < s.net.wall_node.size() ? s.net.wall_node[pair.high] : -1;
   const std::int32_t low = pair.low < s.net.wall_node.size() ? s.net.wall_node[pair.low] : -1;
-  if (dp == 0.0 || high < 0 || low < 0 || s.walls.size() <= std::max(pair.high, pair.low)) {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
+  if (high < 0 || low < 0 || s.walls.size() <= std::max(pair.high, pair.low)) return kNaN;
   // The steady flow of the network as it is now, solved on a copy: the transient flux at the
   // platens of a sample that deforms carries the fluid its pores pump in and out, which at a
   // laboratory shear rate of a DEM test can be tens of times the seepage itself.
   FlowNetwork probe = s.net.flow;
   for (std::size_t d = 0; d < probe.num_domains(); ++d) {
-    if (probe.source_rate()[d] != 0.0) {
-      if (!probe.SetSource(static_cast<std::int32_t>(d), 0.0).ok()) {
-        return std::numeric_limits<double>::quiet_NaN();
-      }
+    if (probe.source_rate()[d] != 0.0 && !probe.SetSource(static_cast<std::int32_t>(d), 0.0).ok()) {
+      return kNaN;
     }
   }
-  if (!SolveSteadyState(probe).ok()) return std::numeric_limits<double>::quiet_NaN();
+  if (!SolveSteadyState(probe).ok()) return kNaN;
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(probe);
   const double q = 0.5 * (NodeInflow(fluxes, high) - NodeInflow(fluxes, low));
-  const auto coordinate = [&](std::size_t w) {
-    return pair.along_x ? s.walls[w].px : s.walls[w].py;
-  };
-  const double length = std::abs(coordinate(pair.high) - coordinate(pair.low));
-  // Across: between the other pair of side walls when the scene has both, else the particles.
-  const auto* spec = FindEffect<WallsEffectSpec>(*s.scene);
-  const WallSide lo_side = pair.along_x ? WallSide::kBottom : WallSide::kLeft;
-  const WallSide hi_side = pair.along_x ? WallSide::kTop : WallSide::kRight;
+  const auto along = [&](const DemWall& w) { return pair.along_x ? w.px : w.py; };
+  const auto across = [&](const DemWall& w) { return pair.along_x ? w.py : w.px; };
+  const double length = std::abs(along(s.walls[pair.high]) - along(s.walls[pair.low]));
+  // Across: between the other pair of side walls when the scene has both, else the particles
+  // (walls need the contacts effect, so the particles are the DEM's).
+  const auto lo = SideWallIndex(spec, pair.along_x ? WallSide::kBottom : WallSide::kLeft);
+  const auto hi = SideWallIndex(spec, pair.along_x ? WallSide::kTop : WallSide::kRight);
   double width = 0.0;
-  const auto lo = SideWallIndex(*spec, lo_side);
-  const auto hi = SideWallIndex(*spec, hi_side);
   if (lo && hi) {
-    width = pair.along_x ? s.walls[*hi].py - s.walls[*lo].py : s.walls[*hi].px - s.walls[*lo].px;
+    width = std::abs(across(s.walls[*hi]) - across(s.walls[*lo]));
   } else {
+    const DemParticles& p = s.particles;
     double min = std::numeric_limits<double>::infinity(), max = -min;
-    const bool moving = s.moves();
-    const std::size_t n = moving ? s.particles.size() : s.net.packing.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double c = moving ? (pair.along_x ? s.particles.y[i] : s.particles.x[i])
-                              : (pair.along_x ? s.net.packing.y[i] : s.net.packing.x[i]);
-      const double r = moving ? s.particles.radius[i] : s.net.packing.radius[i];
-      min = std::min(min, c - r);
-      max = std::max(max, c + r);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double c = pair.along_x ? p.y[i] : p.x[i];
+      min = std::min(min, c - p.radius[i]);
+      max = std::max(max, c + p.radius[i]);
     }
     width = max - min;
   }
-  return s.scene->fluid.viscosity_pa_s * q * length / (std::abs(width) * dp);
+  const Result<double> k = DarcyPermeability(s.scene->fluid.viscosity_pa_s, q, length, width, dp);
+  return k.ok() ? *k : kNaN;
 }
 
 }  // namespace seep::core::effects_internal

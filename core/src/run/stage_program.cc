@@ -211,16 +211,6 @@ double StageProgram::FractionDone(std::uint64_t step, double time_s) const {
   return (state_.index + share) / static_cast<double>(stages_.size());
 }
 
-double StageProgram::KineticEnergy(const LiveState& s) const {
-  const DemParticles& p = s.particles;
-  double e = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    e += p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
-         p.inertia[i] * p.omega[i] * p.omega[i];
-  }
-  return 0.5 * e;
-}
-
 StageOutcome StageProgram::AfterStep(const LiveState& s, const StepInfo& info, bool may_end) {
   StageOutcome out;
   if (done()) return out;
@@ -231,7 +221,7 @@ StageOutcome StageProgram::AfterStep(const LiveState& s, const StepInfo& info, b
   if (s.moves()) state_.bonds_broken += s.contacts->broken_bonds().size();
   double kinetic = 0.0;
   if (FindCondition<KineticEnergyEnd>(stage) != nullptr) {
-    kinetic = KineticEnergy(s);
+    kinetic = KineticEnergy(s.particles);
     state_.peak_kinetic_energy_j = std::max(state_.peak_kinetic_energy_j, kinetic);
   }
   std::optional<double> well;

@@ -250,6 +250,7 @@ Status Stepper::ApplyStageControls(double stage_time_s, bool force) {
   if (!force && controls == applied_) return Status::Ok();
   WriteControls(controls, &scene_);
   applied_ = std::move(controls);
+  applied_stage_ = program_.state().index;
   return ReconfigureAll();
 }
 
@@ -339,8 +340,9 @@ StepInfo Stepper::NextStep() const {
 
 Status Stepper::Step() {
   LiveState& s = state_;
-  // A stage's settings at the time this step starts from (a schedule moves them step by step).
-  if (program_.active()) {
+  // A stage's settings at the time this step starts from: new at a stage's start, and moved step
+  // by step by a schedule (constant settings are not rebuilt on every step of a stage).
+  if (program_.active() && (applied_stage_ != program_.state().index || program_.Scheduled())) {
     SEEP_RETURN_IF_ERROR(ApplyStageControls(time_s_ - program_.state().start_time_s, false));
   }
   const StepInfo info = NextStep();

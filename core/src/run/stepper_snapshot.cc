@@ -226,6 +226,7 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   if (snap.stages) {
     program_ = std::move(program);
     applied_ = std::move(controls);
+    applied_stage_ = program_.state().index;
     total_steps_ = snap.step + std::max<std::uint64_t>(1, program_.EstimateSteps(dt_));
   }
   step_ = snap.step;

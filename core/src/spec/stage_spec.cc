@@ -38,4 +38,19 @@ const char* EndConditionName(const EndConditionSpec& condition) {
       condition);
 }
 
+bool HasSchedule(const StageSpec& stage) {
+  const auto scheduled = [](const std::optional<SettingSpec>& setting) {
+    return setting && std::holds_alternative<ScheduleSpec>(*setting);
+  };
+  bool any = scheduled(stage.injection_rate_m2_s) || scheduled(stage.inlet_pressure_pa) ||
+             scheduled(stage.outlet_pressure_pa) || scheduled(stage.well_pressure_pa) ||
+             scheduled(stage.outer_pressure_pa);
+  for (const StageWallSpec& w : stage.walls) {
+    any = any || scheduled(w.servo_stress_pa) || scheduled(w.normal_velocity_m_s) ||
+          scheduled(w.drain_pressure_pa);
+  }
+  for (const StageRegionSpec& r : stage.regions) any = any || scheduled(r.value);
+  return any;
+}
+
 }  // namespace seep::core

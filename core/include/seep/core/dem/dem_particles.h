@@ -48,4 +48,7 @@ Result<DemParticles> MakeDemParticles(const Packing& packing, double density);
 // by tests that change one disk).
 void SetDiskMass(DemParticles* particles, std::size_t i, double density);
 
+// The disks' kinetic energy, translation and rotation, J per m of thickness.
+double KineticEnergy(const DemParticles& particles);
+
 }  // namespace seep::core

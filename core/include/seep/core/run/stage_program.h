@@ -71,6 +71,8 @@ class StageProgram {
 
   // The controls of the current stage at stage time t (the last stage's end values once done).
   StageControls ControlsAt(double stage_time_s) const;
+  // Whether ControlsAt changes within the current stage (it follows a schedule).
+  bool Scheduled() const { return !done() && HasSchedule(stages_[state_.index]); }
 
   // Whether step `step` at time `time_s` reaches a bound of the current stage that is known
   // before the step is taken: a duration_s or steps condition, or max_duration_s. The stepper
@@ -101,7 +103,6 @@ class StageProgram {
  private:
   // The controls at the start of stage `index`: the scene's, then every earlier stage's end.
   StageControls ControlsBefore(std::uint32_t index) const;
-  double KineticEnergy(const LiveState& s) const;
 
   std::vector<StageSpec> stages_;
   StageControls initial_;  // the scene's own settings

@@ -138,8 +138,9 @@ class Stepper {
   SceneSpec scene_;  // live: a stage's settings are written into it
   LiveState state_;
   StageProgram program_;
-  StageControls applied_;         // the stage settings last written into scene_
-  std::uint32_t step_stage_ = 0;  // the stage the last step belonged to (the series' column)
+  StageControls applied_;            // the stage settings last written into scene_
+  std::uint32_t applied_stage_ = 0;  // the stage they were written for
+  std::uint32_t step_stage_ = 0;     // the stage the last step belonged to (the series' column)
   EffectSet effects_;
   // Hook lists hold indices into effects_.all (so each call can be timed against its effect).
   std::vector<std::size_t> force_, post_force_, end_of_step_;

@@ -101,4 +101,7 @@ struct StageSpec {
   std::vector<StageRegionSpec> regions;
 };
 
+// Whether any of the stage's settings follows a schedule (else they are constant over it).
+bool HasSchedule(const StageSpec& stage);
+
 }  // namespace seep::core
