@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "field_error.h"
 #include "region_overlap.h"
 #include "seep/core/spec/scene_spec.h"
 
@@ -31,14 +32,8 @@ constexpr double kRelativeTolerance = 1e-9;
 // A half-plane is clipped to the scene's extent enlarged this many times about its centre.
 constexpr double kFrameScale = 10.0;
 
-Status Bad(const std::string& field, const std::string& why) {
-  return InvalidArgument(fmt::format("{}: {}", field, why));
-}
-
-Status RequireFinite(const std::string& field, double value) {
-  if (std::isfinite(value)) return Status::Ok();
-  return Bad(field, fmt::format("must be finite (got {})", value));
-}
+using spec_internal::Bad;
+using spec_internal::RequireFinite;
 
 Status ValidateName(const std::string& at, const std::string& name) {
   if (name.empty()) return Bad(at + ".name", "is required (it names the region's metrics)");

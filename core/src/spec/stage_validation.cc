@@ -7,14 +7,13 @@
 #include <type_traits>
 #include <vector>
 
+#include "field_error.h"
 #include "seep/core/spec/scene_spec.h"
 
 namespace seep::core {
 namespace {
 
-Status Bad(const std::string& field, const std::string& why) {
-  return InvalidArgument(fmt::format("{}: {}", field, why));
-}
+using spec_internal::Bad;
 
 // What a setting's values may be.
 enum class Range { kFinite, kNonNegative, kPositive, kUnitInterval };
