@@ -27,23 +27,6 @@
 namespace seep::client {
 namespace {
 
-std::shared_ptr<grpc::Channel> Connect(const GlobalOptions& global) {
-  grpc::ChannelArguments args;
-  args.SetMaxReceiveMessageSize(128 << 20);
-  if (!global.tls && global.tls_ca.empty()) {
-    return grpc::CreateCustomChannel(global.server, grpc::InsecureChannelCredentials(), args);
-  }
-  grpc::SslCredentialsOptions ssl;
-  ssl.pem_root_certs = global.tls_ca_pem;  // empty: the system's roots
-  return grpc::CreateCustomChannel(global.server, grpc::SslCredentials(ssl), args);
-}
-
-// Plain metadata rather than call credentials: gRPC only sends call credentials over secure
-// channels, and a token-protected seepd may also be plaintext on loopback.
-void AddToken(const GlobalOptions& global, grpc::ClientContext* ctx) {
-  if (!global.token.empty()) ctx->AddMetadata("authorization", "Bearer " + global.token);
-}
-
 // Deadline and token: what every call but WatchJob needs.
 void PrepareCall(const GlobalOptions& global, grpc::ClientContext* ctx) {
   ctx->set_deadline(std::chrono::system_clock::now() +
@@ -58,52 +41,12 @@ int TerminalColumns() {
   return 80;
 }
 
-std::string Trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
-}
-
-bool ReadFile(const std::string& path, std::string* content) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  *content = buffer.str();
-  return true;
-}
-
 }  // namespace
 
 int LoadCredentials(GlobalOptions* global) {
-  constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
-  if (!global->token_file.empty()) {
-    std::string content;
-    if (!ReadFile(global->token_file, &content)) {
-      std::fprintf(stderr, "seep: --token-file %s: cannot be read\n", global->token_file.c_str());
-      return kBadInput;
-    }
-    global->token = Trim(content);
-    if (global->token.empty()) {
-      std::fprintf(stderr, "seep: --token-file %s: is empty\n", global->token_file.c_str());
-      return kBadInput;
-    }
-  }
-  for (const char c : global->token) {
-    if (c < 0x21 || c > 0x7e) {
-      std::fprintf(stderr,
-                   "seep: --token: only visible ASCII characters are allowed (no spaces or "
-                   "control characters)\n");
-      return kBadInput;
-    }
-  }
-  if (!global->tls_ca.empty()) {
-    if (!ReadFile(global->tls_ca, &global->tls_ca_pem) ||
-        global->tls_ca_pem.find("-----BEGIN") == std::string::npos) {
-      std::fprintf(stderr, "seep: --tls-ca %s: cannot read a PEM certificate from it\n",
-                   global->tls_ca.c_str());
-      return kBadInput;
-    }
+  if (const std::string problem = LoadConnectionSecrets(*global); !problem.empty()) {
+    std::fprintf(stderr, "seep: %s\n", problem.c_str());
+    return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
   }
   return 0;
 }
@@ -187,7 +130,7 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
     if (options.from_step) request.set_from_step(*options.from_step);
   }
 
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::SubmitJobResponse response;
@@ -221,7 +164,7 @@ int Submit(const GlobalOptions& global, const SubmitOptions& options) {
 }
 
 int Watch(const GlobalOptions& global, const std::string& job_id) {
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;  // no deadline: a watch lasts as long as the job
   AddToken(global, &ctx);
   v1::WatchJobRequest request;
@@ -276,7 +219,7 @@ int Watch(const GlobalOptions& global, const std::string& job_id) {
 }
 
 int Show(const GlobalOptions& global, const std::string& job_id) {
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::GetJobRequest request;
@@ -328,7 +271,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
     std::fprintf(stderr, "seep: list: %s\n", bad.c_str());
     return static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
   }
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   v1::ListJobsResponse all;
   std::string token;
   do {
@@ -358,7 +301,7 @@ int List(const GlobalOptions& global, const ListOptions& options) {
 }
 
 int Cancel(const GlobalOptions& global, const std::string& job_id) {
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::CancelJobRequest request;
@@ -380,7 +323,7 @@ int Cancel(const GlobalOptions& global, const std::string& job_id) {
 }
 
 int Resume(const GlobalOptions& global, const std::string& job_id) {
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::ResumeJobRequest request;
@@ -399,7 +342,7 @@ int Resume(const GlobalOptions& global, const std::string& job_id) {
 }
 
 int Result(const GlobalOptions& global, const std::string& job_id) {
-  auto stub = v1::SeepService::NewStub(Connect(global));
+  auto stub = v1::SeepService::NewStub(OpenSeepdChannel(global));
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
   v1::GetResultRequest request;
@@ -417,7 +360,7 @@ int Result(const GlobalOptions& global, const std::string& job_id) {
 }
 
 int Health(const GlobalOptions& global) {
-  auto channel = Connect(global);
+  auto channel = OpenSeepdChannel(global);
   auto health = grpc::health::v1::Health::NewStub(channel);
   grpc::ClientContext ctx;
   PrepareCall(global, &ctx);
@@ -462,7 +405,9 @@ int Health(const GlobalOptions& global) {
 }
 
 // The helpers above, for the other command files (call_support.h).
-std::shared_ptr<grpc::Channel> OpenChannel(const GlobalOptions& global) { return Connect(global); }
+std::shared_ptr<grpc::Channel> OpenChannel(const GlobalOptions& global) {
+  return OpenSeepdChannel(global);
+}
 void PrepareUnaryCall(const GlobalOptions& global, grpc::ClientContext* ctx) {
   PrepareCall(global, ctx);
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "connection.h"
+
 namespace seep::client {
 
 inline constexpr int kExitJobFailed = 20;
@@ -32,15 +34,10 @@ inline constexpr const char* kExitCodeHelp =
     "With --json, stdout holds one JSON document (messages go to stderr).\n"
     "Environment: SEEP_SERVER (--server), SEEP_TOKEN (--token).";
 
-struct GlobalOptions {
-  std::string server = "127.0.0.1:50051";
+// The server, token and TLS options (connection.h), and what the CLI adds to them.
+struct GlobalOptions : Connection {
   double timeout_s = 10.0;
   bool json = false;
-  std::string token;       // sent as 'authorization: Bearer <token>' when not empty
-  std::string token_file;  // read into `token` by LoadCredentials
-  bool tls = false;        // TLS with the system's root certificates
-  std::string tls_ca;      // TLS trusting this PEM CA file (implies tls)
-  std::string tls_ca_pem;  // its content, read by LoadCredentials
 };
 
 // Reads --token-file and --tls-ca and checks the token; returns the exit code (0 = fine) after

@@ -34,12 +34,15 @@
 #include "jobs/job_runner.h"
 #include "jobs/physics_pool.h"
 #include "jobs/retention.h"
+#include "jobs/runner_flags.h"
 #include "jobs/secure_random.h"
+#include "jobs/store_ledger.h"
 #include "jobs/test_crash_points.h"
 #include "metrics/metrics_endpoint.h"
 #include "metrics/service_metrics.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
+#include "rpc/worker_service.h"
 #include "seep/core/log.h"
 #include "seep/core/threads.h"
 #include "store/durable_files.h"
@@ -62,19 +65,13 @@ constexpr int kExitShutdownForced = 3;
 struct Options {
   std::string listen = "127.0.0.1:50051";
   std::string data_dir = "seep-data";
-  std::string log_level = "info";
   std::string port_file;
-  int workers = 1;
-  int threads_per_job = 0;  // 0: the cores shared out among the workers
-  std::uint64_t checkpoint_every_steps = 0;
-  double checkpoint_interval_s = 30.0;
-  std::uint32_t checkpoints_kept = 3;
-  double lease_s = 30.0;
-  double job_time_limit_s = 0.0;   // 0: no limit
-  std::string test_stall_job;      // test only
-  int test_fail_final_writes = 0;  // test only
-  std::string test_crash_job;      // test only
-  std::string test_crash_at;       // test only: POINT:N (TestCrashPoints)
+  seep::service::RunnerFlags runner;  // workers, threads, lease, checkpoints, log level
+  double job_time_limit_s = 0.0;      // 0: no limit
+  std::string test_stall_job;         // test only
+  int test_fail_final_writes = 0;     // test only
+  std::string test_crash_job;         // test only
+  std::string test_crash_at;          // test only: POINT:N (TestCrashPoints)
   int max_interruptions = 3;
   std::string token_file;  // else SEEP_TOKEN; neither: no token
   std::string tls_cert;    // PEM; with tls_key, serve TLS
@@ -91,6 +88,7 @@ struct Options {
   int max_streams_per_connection = 100;
   double keepalive_s = 30.0;
   std::string metrics_listen;  // empty: no metrics endpoint
+  std::uint64_t max_checkpoint_bytes = seep::service::kDefaultMaxCheckpointUploadBytes;
 };
 
 // Waits for the drain to finish (`drained`), a second signal or the time limit; the last two end
@@ -210,7 +208,7 @@ std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
       (std::filesystem::path(options.data_dir) / "seepd.log").string(), 10 * 1024 * 1024, 5);
   auto logger = std::make_shared<spdlog::logger>("seepd", spdlog::sinks_init_list{console, file});
   logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %v");
-  logger->set_level(spdlog::level::from_str(options.log_level));
+  logger->set_level(spdlog::level::from_str(options.runner.log_level));
   logger->flush_on(spdlog::level::info);
   return logger;
 }
@@ -387,18 +385,9 @@ int Run(const Options& options) {
   }
 
   seep::service::JobHub hub;
-  seep::service::JobRunnerOptions runner_options;
-  runner_options.workers = options.workers;
-  runner_options.threads_per_job = options.threads_per_job > 0
-                                       ? options.threads_per_job
-                                       : seep::core::CoreThreadsPerJob(options.workers);
+  seep::service::JobRunnerOptions runner_options = seep::service::RunnerOptionsFrom(options.runner);
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = lease_owner;
-  runner_options.lease_duration =
-      std::chrono::milliseconds(static_cast<std::int64_t>(options.lease_s * 1000));
-  // Renewals (and the rescuer's look for expired leases) several times per lease.
-  runner_options.heartbeat_interval =
-      std::min(std::chrono::milliseconds(2000), runner_options.lease_duration / 4);
   runner_options.job_time_limit =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
   runner_options.test_stall_job = options.test_stall_job;
@@ -412,21 +401,16 @@ int Run(const Options& options) {
         "are on: not for production",
         options.test_stall_job, options.test_fail_final_writes, options.test_crash_job);
   }
-  runner_options.checkpoints.dir = checkpoints_dir;
-  runner_options.checkpoints.every_steps = options.checkpoint_every_steps;
-  runner_options.checkpoints.interval =
-      std::chrono::milliseconds(static_cast<std::int64_t>(options.checkpoint_interval_s * 1000));
-  runner_options.checkpoints.keep = options.checkpoints_kept;
   seep::service::ServiceMetrics metrics;
   runner_options.metrics = &metrics;
   runner_options.checkpoints.on_written = [&metrics](std::int64_t bytes, double seconds) {
     metrics.RecordCheckpoint(bytes, seconds);
   };
-  if (crash_points.armed()) {
-    runner_options.crash_points = &crash_points;
-    runner_options.checkpoints.crash_points = &crash_points;
-  }
-  seep::service::JobRunner runner(**store, hub, runner_options, logger);
+  if (crash_points.armed()) runner_options.crash_points = &crash_points;
+  // Where seepd's own workers, and remote ones through the WorkerService, keep jobs' progress.
+  seep::service::StoreLedger ledger(**store, checkpoints_dir, logger,
+                                    crash_points.armed() ? &crash_points : nullptr);
+  seep::service::JobRunner runner(ledger, &**store, hub, runner_options, logger);
   // GetJobFields' physics: one request at a time with a job's thread budget, a few more waiting.
   seep::service::PhysicsPool physics(/*threads=*/1, runner_options.threads_per_job,
                                      /*max_waiting=*/16);
@@ -436,6 +420,10 @@ int Run(const Options& options) {
       {authenticated ? &**token : nullptr, options.max_scene_bytes, options.max_response_bytes,
        options.max_watch_streams},
       &metrics);
+  // Remote workers (seep-worker) lease jobs through it, with the same token.
+  seep::service::WorkerServiceImpl worker_service(
+      **store, ledger, hub, logger,
+      {authenticated ? &**token : nullptr, options.max_checkpoint_bytes}, &metrics);
   // Scraped on the endpoint's own threads: the store's counts are read at each scrape.
   seep::service::MetricsEndpoint metrics_endpoint([&] {
     seep::service::MetricsSnapshotGauges gauges;
@@ -457,6 +445,7 @@ int Run(const Options& options) {
   builder.AddListeningPort(options.listen, credentials, &port);
   ApplyServerLimits(options, builder);
   builder.RegisterService(&service);
+  builder.RegisterService(&worker_service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
     logger->critical("cannot listen on {} (--listen{})", options.listen,
@@ -465,7 +454,7 @@ int Run(const Options& options) {
   }
   server->GetHealthCheckService()->SetServingStatus(true);
   logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s) of {} thread(s)",
-               SEEP_BUILD_ID, options.listen, port, options.data_dir, options.workers,
+               SEEP_BUILD_ID, options.listen, port, options.data_dir, options.runner.workers,
                runner_options.threads_per_job);
   logger->info("transport {}; {}; requests up to {} bytes, scenes up to {} bytes",
                tls ? "TLS" : "plaintext",
@@ -529,34 +518,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--data-dir", options.data_dir, "folder for the SQLite database and logs")
       ->capture_default_str();
-  app.add_option("--workers", options.workers, "jobs run at the same time")
-      ->check(CLI::Range(1, 64))
+  app.add_option("--workers", options.runner.workers,
+                 "jobs run at the same time by seepd itself (0: a pure coordinator, whose jobs "
+                 "seep-worker processes run)")
+      ->check(CLI::Range(0, 64))
       ->capture_default_str();
-  app.add_option("--threads-per-job", options.threads_per_job,
-                 "threads of each running job's parallel loops (default: the cores / --workers; "
-                 "results do not depend on it)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
-      ->capture_default_str();
+  seep::service::AddRunnerFlags(
+      app, options.runner,
+      "seconds a job's lease lasts without progress; then the rescuer queues the job again (must "
+      "exceed the longest step or scene set-up)");
   app.add_option("--port-file", options.port_file,
                  "write the bound port to this file once serving (for scripts and tests)");
-  app.add_option("--checkpoint-interval-s", options.checkpoint_interval_s,
-                 "wall seconds between two checkpoints of a running job (0 = no time trigger)")
-      ->check(CLI::Range(0.0, 1e6))
-      ->capture_default_str();
-  app.add_option("--checkpoint-every-steps", options.checkpoint_every_steps,
-                 "steps between two checkpoints of a running job (0 = no step trigger)")
-      ->capture_default_str();
-  app.add_option("--checkpoints-kept", options.checkpoints_kept,
-                 "newest checkpoint files kept per job")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--lease-s", options.lease_s,
-                 "seconds a job's lease lasts without progress; then the rescuer queues the job "
-                 "again (must exceed the longest step or scene set-up)")
-      ->check(CLI::Range(0.5, 86400.0))
-      ->capture_default_str();
   app.add_option("--job-time-limit-s", options.job_time_limit_s,
                  "wall seconds one run of a job may take before it is FAILED with "
                  "DEADLINE_EXCEEDED (checkpointed first; 0 = no limit)")
@@ -646,6 +618,11 @@ int main(int argc, char** argv) {
   app.add_option("--metrics-listen", options.metrics_listen,
                  "HOST:PORT of an HTTP endpoint serving /metrics for Prometheus (off by default; "
                  "port 0 picks a free one, logged)");
+  app.add_option("--max-checkpoint-bytes", options.max_checkpoint_bytes,
+                 "largest checkpoint state a remote worker may upload (larger: "
+                 "RESOURCE_EXHAUSTED, nothing kept)")
+      ->check(CLI::Range(std::uint64_t{1024}, seep::service::kDefaultMaxCheckpointUploadBytes))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return Run(options);

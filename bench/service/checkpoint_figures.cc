@@ -15,6 +15,7 @@
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
 #include "jobs/checkpoint_keeper.h"
+#include "jobs/store_ledger.h"
 #include "service_bench.h"
 #include "store/checkpoint_io.h"
 #include "store/job_store.h"
@@ -168,11 +169,12 @@ bool CheckpointOverheadAndResume(const BenchOptions& options, bool* resume_met) 
   std::filesystem::remove(scratch);
 
   CheckpointPolicy policy;
-  policy.dir = dir / "checkpoints";
+  policy.enabled = true;
+  service::StoreLedger ledger(store, dir / "checkpoints", QuietLogger("bench-ledger"));
   policy.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.default_interval_s * 1000.0));
   policy.keep = 3;
-  CheckpointKeeper keeper(store, policy, running, options.build_id, QuietLogger("bench-keeper"));
+  CheckpointKeeper keeper(ledger, policy, running, options.build_id, QuietLogger("bench-keeper"));
   std::vector<double> write_ms;
   constexpr int kWrites = 7;  // > keep, so rotation (delete of the oldest file) is in the figure
   for (int i = 0; i < kWrites; ++i) {
@@ -205,7 +207,7 @@ bool CheckpointOverheadAndResume(const BenchOptions& options, bool* resume_met) 
   CheckpointPolicy short_policy = policy;
   short_policy.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.short_interval_s * 1000.0));
-  CheckpointKeeper short_keeper(store, short_policy, running, options.build_id,
+  CheckpointKeeper short_keeper(ledger, short_policy, running, options.build_id,
                                 QuietLogger("bench-keeper-short"));
   double off_s = 0.0, on_s = 0.0;
   std::uint64_t off_steps = 0, on_steps = 0;
@@ -269,7 +271,7 @@ bool CheckpointOverheadAndResume(const BenchOptions& options, bool* resume_met) 
   auto again = store.Get(running.id);
   if (!again.ok()) Fail("Get", again.status());
   core::Simulation resumed = CreateSimulation(again->scene);
-  CheckpointKeeper resume_keeper(store, policy, running, options.build_id,
+  CheckpointKeeper resume_keeper(ledger, policy, running, options.build_id,
                                  QuietLogger("bench-resume"));
   const auto from = resume_keeper.RestoreNewest(resumed);
   const double keeper_s = Seconds(k0, Clock::now());

@@ -25,6 +25,7 @@
 
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
+#include "jobs/store_ledger.h"
 #include "rpc/seep_service.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "service_bench.h"
@@ -107,10 +108,11 @@ bool SubmitToRunningLatency(const BenchOptions& options) {
   runner_options.workers = 1;
   runner_options.build_id = options.build_id;
   runner_options.lease_owner = "seep-service-bench";
-  runner_options.checkpoints.dir = dir / "checkpoints";
+  runner_options.checkpoints.enabled = true;
+  service::StoreLedger ledger(store, dir / "checkpoints", logger);
   runner_options.checkpoints.interval =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.default_interval_s * 1000.0));
-  service::JobRunner runner(store, hub, runner_options, logger);
+  service::JobRunner runner(ledger, &store, hub, runner_options, logger);
   service::PhysicsPool physics(1, 1, 16);
   service::SeepServiceImpl service_impl(
       store, hub, physics, options.build_id,

@@ -2,6 +2,8 @@
 
 #include <google/protobuf/util/time_util.h>
 
+#include <algorithm>
+
 namespace seep::service {
 namespace {
 
@@ -73,15 +75,7 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
   SetTime(job.created_at_ms, out->mutable_created_at());
   if (job.started_at_ms) SetTime(*job.started_at_ms, out->mutable_started_at());
   if (job.finished_at_ms) SetTime(*job.finished_at_ms, out->mutable_finished_at());
-  auto* progress = out->mutable_progress();
-  progress->set_step(job.progress.step);
-  progress->set_time_s(job.progress.time_s);
-  progress->set_fraction_done(job.progress.fraction_done);
-  progress->set_eta_s(job.progress.eta_s);
-  progress->set_stage_index(job.progress.stage_index);
-  progress->set_stage_count(job.progress.stage_count);
-  progress->set_stage_name(job.progress.stage_name);
-  for (const auto& [name, value] : job.progress.latest) (*progress->mutable_latest())[name] = value;
+  ProgressToProto(job.progress, out->mutable_progress());
   if (!job.error_code.empty()) {
     out->mutable_error()->set_code(job.error_code);
     out->mutable_error()->set_message(job.error_message);
@@ -111,6 +105,29 @@ void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out) {
   SetTime(event.at_ms, out->mutable_at());
   out->set_kind(event.kind);
   out->set_message(event.message);
+}
+
+void ProgressToProto(const JobProgress& progress, v1::Progress* out) {
+  out->set_step(progress.step);
+  out->set_time_s(progress.time_s);
+  out->set_fraction_done(progress.fraction_done);
+  out->set_eta_s(progress.eta_s);
+  out->set_stage_index(progress.stage_index);
+  out->set_stage_count(progress.stage_count);
+  out->set_stage_name(progress.stage_name);
+  for (const auto& [name, value] : progress.latest) (*out->mutable_latest())[name] = value;
+}
+
+JobProgress ProgressFromProto(const v1::Progress& progress) {
+  JobProgress out = JobProgress::At(progress.step(), progress.time_s(), progress.fraction_done(),
+                                    progress.eta_s());
+  out.stage_index = progress.stage_index();
+  out.stage_count = progress.stage_count();
+  out.stage_name = progress.stage_name();
+  // A proto map has no order: by name, as the store and the printers show them anyway.
+  out.latest.assign(progress.latest().begin(), progress.latest().end());
+  std::sort(out.latest.begin(), out.latest.end());
+  return out;
 }
 
 }  // namespace seep::service

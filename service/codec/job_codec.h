@@ -16,6 +16,9 @@ v1::JobKind JobKindToProto(JobKind kind);
 std::optional<JobKind> JobKindFromProto(v1::JobKind kind);
 // with_scene = false leaves Job.scene (or Job.calibration) empty (ListJobs keeps pages small).
 void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out);
+// A job's progress both ways (the latest samples come back sorted by name).
+void ProgressToProto(const JobProgress& progress, v1::Progress* out);
+JobProgress ProgressFromProto(const v1::Progress& progress);
 void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out);
 
 }  // namespace seep::service

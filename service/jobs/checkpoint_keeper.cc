@@ -2,19 +2,13 @@
 
 #include <fmt/format.h>
 
-#include <system_error>
-
 #include "codec/simulation_state_codec.h"
-#include "jobs/newest_checkpoint.h"
-#include "jobs/wall_clock.h"
-#include "store/checkpoint_io.h"
-#include "store/durable_files.h"
 
 namespace seep::service {
-CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy,
+CheckpointKeeper::CheckpointKeeper(JobLedger& ledger, const CheckpointPolicy& policy,
                                    const JobRecord& job, std::string build_id,
                                    std::shared_ptr<spdlog::logger> log)
-    : store_(store),
+    : ledger_(ledger),
       policy_(policy),
       job_(job),
       build_id_(std::move(build_id)),
@@ -23,39 +17,48 @@ CheckpointKeeper::CheckpointKeeper(JobStore& store, const CheckpointPolicy& poli
       last_time_(std::chrono::steady_clock::now()) {}
 
 void CheckpointKeeper::Event(const std::string& kind, const std::string& message) {
-  if (auto s = store_.AddEvent(job_.id, NowMs(), kind, message); !s.ok()) {
+  if (auto s = ledger_.AddEvent(job_.id, job_.lease_epoch, kind, message); !s.ok()) {
     log_->warn("event not stored: {}", s.ToString());
   }
 }
 
 std::optional<std::uint64_t> CheckpointKeeper::RestoreNewest(core::Simulation& sim) {
-  auto records = store_.ListCheckpoints(job_.id);
-  if (!records.ok()) {
-    log_->warn("checkpoints not listed ({}); starting from the beginning",
-               records.status().ToString());
-    return std::nullopt;
+  std::optional<std::uint64_t> below;
+  for (;;) {
+    auto fetched = ledger_.NewestCheckpoint(job_, below);
+    if (!fetched.ok()) {
+      log_->warn("checkpoints not fetched ({}); starting from the beginning",
+                 fetched.status().ToString());
+      return std::nullopt;
+    }
+    if (!*fetched) return std::nullopt;
+    const FetchedCheckpoint& checkpoint = **fetched;
+    below = checkpoint.step;
+    auto snapshot = ParseSimulationState(checkpoint.state);
+    const core::Status restored = snapshot.ok() ? sim.Restore(*snapshot) : snapshot.status();
+    if (!restored.ok()) {
+      log_->warn("checkpoint {} (step {}) skipped: {}", checkpoint.name, checkpoint.step,
+                 restored.ToString());
+      Event("CHECKPOINT_SKIPPED",
+            fmt::format("{} (step {}): {}", checkpoint.name, checkpoint.step, restored.ToString()));
+      continue;
+    }
+    if (checkpoint.meta.build_id != build_id_) {
+      const std::string note = fmt::format(
+          "checkpoint written by build {}, continued by build {}: bit-identity with an "
+          "uninterrupted run is promised only for the same build",
+          checkpoint.meta.build_id, build_id_);
+      log_->warn("{}", note);
+      Event("BUILD_CHANGED", note);
+    }
+    last_step_ = sim.step();
+    last_time_ = std::chrono::steady_clock::now();
+    log_->info("resumed from checkpoint {} at step {} (t = {} s)", checkpoint.name, sim.step(),
+               sim.time_s());
+    Event("RESUMED",
+          fmt::format("from {} at step {} of {}", checkpoint.name, sim.step(), sim.total_steps()));
+    return sim.step();
   }
-  const auto restored = LoadNewestCheckpoint(job_, *records, sim, [&](const SkippedCheckpoint& s) {
-    const std::string name = std::filesystem::path(s.record.path).filename().string();
-    const std::string why = s.foreign ? "it belongs to another job or scene" : s.why.ToString();
-    log_->warn("checkpoint {} (step {}) skipped: {}", name, s.record.step, why);
-    Event("CHECKPOINT_SKIPPED", fmt::format("{} (step {}): {}", name, s.record.step, why));
-  });
-  if (!restored) return std::nullopt;
-  const std::string name = std::filesystem::path(restored->record.path).filename().string();
-  if (restored->meta.build_id != build_id_) {
-    const std::string note = fmt::format(
-        "checkpoint written by build {}, continued by build {}: bit-identity with an "
-        "uninterrupted run is promised only for the same build",
-        restored->meta.build_id, build_id_);
-    log_->warn("{}", note);
-    Event("BUILD_CHANGED", note);
-  }
-  last_step_ = sim.step();
-  last_time_ = std::chrono::steady_clock::now();
-  log_->info("resumed from checkpoint {} at step {} (t = {} s)", name, sim.step(), sim.time_s());
-  Event("RESUMED", fmt::format("from {} at step {} of {}", name, sim.step(), sim.total_steps()));
-  return sim.step();
 }
 
 core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
@@ -82,47 +85,25 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
                                           std::chrono::steady_clock::time_point start) {
   last_step_ = sim.step();
   last_time_ = start;
-  std::error_code ec;
-  const std::filesystem::path dir = std::filesystem::absolute(policy_.dir / job_.id, ec);
-  const std::filesystem::path path = dir / fmt::format("ckpt-{:012}.bin", sim.step());
   CheckpointMeta meta;
   meta.build_id = build_id_;
   meta.job_id = job_.id;
   meta.scene_sha256 = scene_sha256_;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
-  core::Status written = CreateDirectoriesDurably(dir);
-  if (written.ok()) written = WriteCheckpointFile(path, meta, state);
-  if (const core::Status& s = written; !s.ok()) {
-    log_->warn("checkpoint at step {} not written: {}", sim.step(), s.ToString());
-    Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), s.ToString()));
+  auto saved = ledger_.SaveCheckpoint(job_, meta, state, policy_.keep);
+  if (!saved.ok()) {
+    if (saved.status().code() == core::StatusCode::kAborted) return saved.status();
+    log_->warn("checkpoint at step {} not kept: {}", sim.step(), saved.status().ToString());
+    Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), saved.status().ToString()));
     return core::Status::Ok();
-  }
-  if (policy_.crash_points != nullptr)
-    policy_.crash_points->Reach(TestCrashPoints::kCheckpointFile);
-  CheckpointRecord record;
-  record.step = sim.step();
-  record.time_s = sim.time_s();
-  record.path = path.string();
-  record.bytes = static_cast<std::int64_t>(std::filesystem::file_size(path, ec));
-  record.attempt = job_.attempt;
-  record.created_at_ms = NowMs();
-  auto dropped = store_.RecordCheckpoint(job_.id, job_.lease_epoch, record, policy_.keep);
-  if (!dropped.ok()) {
-    if (dropped.status().code() == core::StatusCode::kAborted) return dropped.status();
-    log_->warn("checkpoint at step {} not recorded: {}", sim.step(), dropped.status().ToString());
-    return core::Status::Ok();
-  }
-  for (const CheckpointRecord& old : *dropped) {
-    // The one just written may be among them (when stale newer records outrank it): keep it.
-    if (old.step != record.step) std::filesystem::remove(old.path, ec);
   }
   ++written_;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   seconds_writing_ += seconds;
-  if (policy_.on_written) policy_.on_written(record.bytes, seconds);
-  log_->debug("checkpoint at step {} ({} bytes)", record.step, record.bytes);
+  if (policy_.on_written) policy_.on_written(*saved, seconds);
+  log_->debug("checkpoint at step {} ({} bytes)", sim.step(), *saved);
   return core::Status::Ok();
 }
 

@@ -1,49 +1,46 @@
 // CheckpointKeeper: the periodic checkpoints of one running job, and the resume from them.
 //
-// Files live in <dir>/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified; the folders
-// made durably, 0700). A checkpoint
-// is due every `every_steps` steps or `interval` of wall time, whichever comes first (either may
-// be off); only the newest `keep` files are kept, and each one is recorded in the store (fenced
-// by the job's lease epoch) before older ones are deleted. Resume tries the recorded files newest
-// first and takes the first one that verifies, belongs to this scene and restores; every file it
-// skips is logged and recorded as a job event with the reason.
+// The ledger (jobs/job_ledger.h) keeps them: seepd's StoreLedger as files in
+// <data-dir>/checkpoints/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified; the folders
+// made durably, 0700), a remote worker's RemoteLedger by uploading them to seepd, which does the
+// same. A checkpoint is due every `every_steps` steps or `interval` of wall time, whichever comes
+// first (either may be off); only the newest `keep` are kept, and each one is recorded (fenced by
+// the job's lease epoch) before older ones are deleted. Resume asks the ledger for the newest one
+// that verifies and belongs to this scene, and takes it if it restores, else the next older one;
+// every checkpoint skipped is logged and recorded as a job event with the reason.
 #pragma once
 
 #include <spdlog/logger.h>
 
 #include <chrono>
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
-#include "jobs/test_crash_points.h"
+#include "jobs/job_ledger.h"
 #include "seep/core/run/simulation.h"
 #include "seep/core/status.h"
-#include "store/job_store.h"
 
 namespace seep::service {
 
 struct CheckpointPolicy {
-  std::filesystem::path dir;                  // empty = checkpoints off
+  bool enabled = false;                       // false = checkpoints off
   std::uint64_t every_steps = 0;              // 0 = no step trigger
   std::chrono::milliseconds interval{30000};  // 0 = no wall-time trigger
   std::uint32_t keep = 3;
   // Told of every checkpoint written and recorded: its bytes and wall seconds (for metrics).
   std::function<void(std::int64_t bytes, double seconds)> on_written;
-  // Test only: passed through between a file and its record (null = none).
-  const TestCrashPoints* crash_points = nullptr;
 };
 
 class CheckpointKeeper {
  public:
-  CheckpointKeeper(JobStore& store, const CheckpointPolicy& policy, const JobRecord& job,
+  CheckpointKeeper(JobLedger& ledger, const CheckpointPolicy& policy, const JobRecord& job,
                    std::string build_id, std::shared_ptr<spdlog::logger> log);
 
-  bool enabled() const { return !policy_.dir.empty(); }
+  bool enabled() const { return policy_.enabled; }
 
   // Restores `sim` from the newest usable checkpoint of the job. Returns the step it continues
   // from, or nullopt when there is none (the run starts from the beginning).
@@ -70,7 +67,7 @@ class CheckpointKeeper {
                           std::chrono::steady_clock::time_point start);
   void Event(const std::string& kind, const std::string& message);
 
-  JobStore& store_;
+  JobLedger& ledger_;
   CheckpointPolicy policy_;
   const JobRecord& job_;
   std::string build_id_;

@@ -34,9 +34,10 @@ JobProgress ProgressOf(const core::RunProgress& p, double eta_s) {
 
 }  // namespace
 
-JobRunner::JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
+JobRunner::JobRunner(JobLedger& ledger, JobStore* store, JobHub& hub, JobRunnerOptions options,
                      std::shared_ptr<spdlog::logger> logger)
-    : store_(store),
+    : ledger_(ledger),
+      store_(store),
       hub_(hub),
       options_(std::move(options)),
       logger_(std::move(logger)),
@@ -49,7 +50,9 @@ void JobRunner::Start() {
     workers_.emplace_back([this](const std::stop_token& stop) { WorkerLoop(stop); });
   }
   heartbeat_ = std::jthread([this](const std::stop_token& stop) { HeartbeatLoop(stop); });
-  rescuer_ = std::jthread([this](const std::stop_token& stop) { RescueLoop(stop); });
+  if (store_ != nullptr) {
+    rescuer_ = std::jthread([this](const std::stop_token& stop) { RescueLoop(stop); });
+  }
 }
 
 void JobRunner::Stop() {
@@ -73,8 +76,7 @@ void JobRunner::CancelRunning(const std::string& id) {
 }
 
 void JobRunner::Renew(const std::string& id, Running& running) {
-  const auto expires = NowMs() + options_.lease_duration.count();
-  auto renewed = store_.Heartbeat(id, running.epoch, expires);
+  auto renewed = ledger_.Heartbeat(id, running.epoch, options_.lease_duration);
   if (!renewed.ok()) {
     if (renewed.status().code() == core::StatusCode::kAborted) {
       std::lock_guard lock(mutex_);
@@ -130,7 +132,7 @@ void JobRunner::RescueLoop(const std::stop_token& stop) {
 
 void JobRunner::RescueExpired() {
   std::vector<CrashLoopFailure> crash_loops;
-  auto expired = store_.RequeueExpired(NowMs(), options_.max_interruptions, &crash_loops);
+  auto expired = store_->RequeueExpired(NowMs(), options_.max_interruptions, &crash_loops);
   if (!expired.ok()) {
     logger_->error("rescuing jobs with expired leases failed: {}", expired.status().ToString());
     return;
@@ -161,7 +163,9 @@ void JobRunner::RescueExpired() {
         "lease epoch {} of {} expired without progress ({} ms ago); {}", job.lease_epoch,
         job.lease_owner.value_or("?"), NowMs() - job.lease_expires_at_ms.value_or(0), what);
     logger_->warn("job {} rescued: {}", job.id, message);
-    AddEvent(job.id, "RESCUED", message);
+    if (auto s = store_->AddEvent(job.id, NowMs(), "RESCUED", message); !s.ok()) {
+      logger_->warn("job {}: event not stored: {}", job.id, s.ToString());
+    }
     hub_.Finished(job.id);
   }
   if (!expired->empty()) wake_.notify_all();
@@ -196,8 +200,7 @@ void JobRunner::WorkerLoop(const std::stop_token& stop) {
       std::lock_guard lock(mutex_);
       seen = wake_count_;
     }
-    auto claimed =
-        store_.ClaimNextQueued(options_.lease_owner, NowMs(), options_.lease_duration.count());
+    auto claimed = ledger_.Claim(options_.lease_owner, options_.lease_duration);
     if (!claimed.ok()) {
       logger_->error("claiming a job failed: {}", claimed.status().ToString());
     } else if (claimed->has_value()) {
@@ -243,7 +246,7 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
   hub_.Publish(job.id, job.progress);
   running->log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt,
                      job.lease_epoch);
-  AddEvent(job.id, "CLAIMED",
+  AddEvent(job.id, *running, "CLAIMED",
            fmt::format("attempt {} by {} (lease epoch {})", job.attempt, options_.lease_owner,
                        job.lease_epoch));
   if (job.kind == JobKind::kCalibration) {
@@ -263,7 +266,7 @@ void JobRunner::Unregister(const std::string& id, const Running& running) {
 
 void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
   const std::shared_ptr<spdlog::logger>& log = running.log;
-  CheckpointKeeper keeper(store_, options_.checkpoints, job, options_.build_id, log);
+  CheckpointKeeper keeper(ledger_, options_.checkpoints, job, options_.build_id, log);
   std::optional<core::Simulation> sim;
   const core::Status outcome = CatchAll([&]() -> core::Status {
     v1::Scene scene_pb;
@@ -337,7 +340,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     }
     // Where the run ended, for every outcome (the periodic progress write may be a second old).
     if (sim && !(outcome.ok() && sim->finished())) {
-      if (auto s = store_.UpdateProgress(job.id, running.epoch, ProgressOf(sim->Progress(), 0.0));
+      if (auto s = ledger_.UpdateProgress(job.id, running.epoch, ProgressOf(sim->Progress(), 0.0));
           !s.ok()) {
         log->warn("last progress not stored: {}", s.ToString());
       }
@@ -348,7 +351,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     const std::uint64_t step = sim ? sim->step() : 0;
     log->info("interrupted by shutdown after {:.3f} s at step {}; it continues on restart", wall_s,
               step);
-    AddEvent(job.id, "INTERRUPTED", fmt::format("shutdown at step {}", step));
+    AddEvent(job.id, running, "INTERRUPTED", fmt::format("shutdown at step {}", step));
   };
   ending.succeed = [&](double wall_s) -> Status {
     const core::RunReport report = sim->Report();
@@ -361,18 +364,18 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     done.step = report.steps;
     done.time_s = report.time_s;
     done.fraction_done = 1.0;
-    if (auto s = store_.UpdateProgress(job.id, running.epoch, ProgressOf(done, 0.0)); !s.ok()) {
+    if (auto s = ledger_.UpdateProgress(job.id, running.epoch, ProgressOf(done, 0.0)); !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
     const std::string state_sha256 = HexSha256(state);
     const auto write_result = [&]() -> Status {
-      SEEP_RETURN_IF_ERROR(store_.StoreResultSeries(job.id, running.epoch, report.series.columns,
-                                                    report.series.values, state_sha256));
+      SEEP_RETURN_IF_ERROR(ledger_.StoreResultSeries(job.id, running.epoch, report.series.columns,
+                                                     report.series.values, state_sha256));
       if (options_.crash_points != nullptr) {
         options_.crash_points->Reach(TestCrashPoints::kResultSeries);
       }
-      return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
-                           wall_s, NowMs());
+      return ledger_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
+                            wall_s);
     };
     SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "result", true, write_result));
     log->info("succeeded in {:.3f} s after {} steps ({} checkpoints, {:.3f} s writing them)",
@@ -390,7 +393,7 @@ void JobRunner::PublishProgress(const std::string& id, Running& running,
   const auto now = std::chrono::steady_clock::now();
   if (now - running.last_store_write < options_.store_progress_interval) return;
   running.last_store_write = now;
-  if (auto s = store_.UpdateProgress(id, running.epoch, progress);
+  if (auto s = ledger_.UpdateProgress(id, running.epoch, progress);
       !s.ok() && !running.StopIfLeaseLost(s)) {
     running.log->warn("progress not stored: {}", s.ToString());
   }
@@ -412,22 +415,22 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
   if (!ending.keep_state(stopped)) return;
   Status stored;
   if (stopped && running.cancel) {
-    stored = store_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
-                           outcome.message(), {}, wall_s, NowMs());
+    stored = ledger_.Finish(job.id, running.epoch, JobState::kCancelled, "CANCELLED",
+                            outcome.message(), {}, wall_s);
     log->info("{}cancelled after {:.3f} s: {}", ending.kind, wall_s, outcome.message());
   } else if (stopped && running.time_limit_hit) {
     const std::string message = fmt::format(
         "wall-time limit exceeded: ran {:.1f} s in this claim, the limit is {} s "
         "(--job-time-limit-s); `seep resume` continues it from its last checkpoint",
         wall_s, std::chrono::duration<double>(options_.job_time_limit).count());
-    stored = store_.Finish(job.id, running.epoch, JobState::kFailed, "DEADLINE_EXCEEDED", message,
-                           {}, wall_s, NowMs());
+    stored = ledger_.Finish(job.id, running.epoch, JobState::kFailed, "DEADLINE_EXCEEDED", message,
+                            {}, wall_s);
     log->warn("{}failed: {}", ending.kind, message);
   } else if (stopped) {
     // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again,
     // its lease released (a clean stop is not an interruption without progress).
     ending.interrupted(wall_s);
-    if (auto s = store_.ReleaseLease(job.id, running.epoch); !s.ok()) {
+    if (auto s = ledger_.ReleaseLease(job.id, running.epoch); !s.ok()) {
       log->warn("lease not released: {}", s.ToString());
     }
     return;
@@ -440,14 +443,12 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
       log->error("{}failed: {}", ending.kind, message);
       const std::string code = core::StatusCodeName(stored.code());
       stored = RetryFinalWrite(running, "failure", false, [&] {
-        return store_.Finish(job.id, running.epoch, JobState::kFailed, code, message, {}, wall_s,
-                             NowMs());
+        return ledger_.Finish(job.id, running.epoch, JobState::kFailed, code, message, {}, wall_s);
       });
     }
   } else {
-    stored =
-        store_.Finish(job.id, running.epoch, JobState::kFailed,
-                      core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s, NowMs());
+    stored = ledger_.Finish(job.id, running.epoch, JobState::kFailed,
+                            core::StatusCodeName(outcome.code()), outcome.message(), {}, wall_s);
     log->warn("{}failed: {}", ending.kind, outcome.ToString());
   }
   if (!stored.ok()) {
@@ -483,9 +484,9 @@ core::Status JobRunner::RetryFinalWrite(Running& running, const char* what, bool
   }
 }
 
-void JobRunner::AddEvent(const std::string& id, const std::string& kind,
+void JobRunner::AddEvent(const std::string& id, const Running& running, const std::string& kind,
                          const std::string& message) {
-  if (auto s = store_.AddEvent(id, NowMs(), kind, message); !s.ok()) {
+  if (auto s = ledger_.AddEvent(id, running.epoch, kind, message); !s.ok()) {
     logger_->warn("job {}: event not stored: {}", id, s.ToString());
   }
 }

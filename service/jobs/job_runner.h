@@ -15,6 +15,11 @@
 // crash, a shutdown, a cancel or a failure followed by ResumeJob. Calibration jobs
 // (job_runner_calibration.cc) are short and write no checkpoints: after a restart or a resume they
 // run again from the start, and their records replace the earlier ones.
+//
+// Every write a worker makes goes through a JobLedger (jobs/job_ledger.h): seepd's StoreLedger,
+// or in seep-worker the RemoteLedger that makes the same calls over gRPC. The runner of a remote
+// worker has no store: it neither rescues leases (the coordinator does) nor runs calibrations
+// (the coordinator hands it simulations only).
 #pragma once
 
 #include <spdlog/logger.h>
@@ -31,6 +36,7 @@
 
 #include "jobs/checkpoint_keeper.h"
 #include "jobs/job_hub.h"
+#include "jobs/job_ledger.h"
 #include "jobs/test_crash_points.h"
 #include "metrics/service_metrics.h"
 #include "store/job_store.h"
@@ -69,7 +75,7 @@ struct JobRunnerOptions {
   // Test only: a worker running a job of this name in its first claim stops making progress
   // 1500 steps into its run (as a hung worker would) until it is told it lost the lease.
   std::string test_stall_job;
-  // Periodic checkpoints of running jobs, and resume from them (dir empty = off).
+  // Periodic checkpoints of running jobs, and resume from them (enabled = false: off).
   CheckpointPolicy checkpoints;
   // Test only: where seepd may kill itself (TestCrashPoints; null = nowhere).
   const TestCrashPoints* crash_points = nullptr;
@@ -79,7 +85,9 @@ struct JobRunnerOptions {
 
 class JobRunner {
  public:
-  JobRunner(JobStore& store, JobHub& hub, JobRunnerOptions options,
+  // `store` is seepd's (for the rescuer and the calibration records), or null in a remote
+  // worker; both outlive the runner.
+  JobRunner(JobLedger& ledger, JobStore* store, JobHub& hub, JobRunnerOptions options,
             std::shared_ptr<spdlog::logger> logger);
   ~JobRunner();
   JobRunner(const JobRunner&) = delete;
@@ -153,7 +161,9 @@ class JobRunner {
   // with its reason when that cannot be recorded; FAILED with the outcome otherwise.
   void Conclude(const JobRecord& job, Running& running, const core::Status& outcome,
                 const Ending& ending);
-  void AddEvent(const std::string& id, const std::string& kind, const std::string& message);
+  // An event of a job this worker runs (fenced by its lease epoch).
+  void AddEvent(const std::string& id, const Running& running, const std::string& kind,
+                const std::string& message);
   // Runs a final write until it succeeds, the lease is lost (ABORTED) or the store refuses the
   // data (INVALID_ARGUMENT), at most final_write_attempts times with a doubling wait; the last
   // failure says how many tries were made. `injectable`: test_fail_final_writes applies.
@@ -162,7 +172,8 @@ class JobRunner {
   // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker).
   static core::Status CatchAll(const std::function<core::Status()>& body);
 
-  JobStore& store_;
+  JobLedger& ledger_;
+  JobStore* store_;  // null in a remote worker
   JobHub& hub_;
   JobRunnerOptions options_;
   std::shared_ptr<spdlog::logger> logger_;

@@ -66,6 +66,11 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
   std::vector<core::CalibrationRecord> records;
   v1::Calibration calibration;
   const core::Status outcome = CatchAll([&]() -> core::Status {
+    if (store_ == nullptr) {
+      // The coordinator hands remote workers simulations only (WorkerService.ClaimJob).
+      return core::FailedPrecondition(
+          "calibration jobs run on seepd's own workers (--workers >= 1), not on a remote worker");
+    }
     if (!calibration.ParseFromString(job.scene)) {
       return core::DataLoss("stored calibration bytes do not parse as seep.v1.Calibration");
     }
@@ -90,7 +95,8 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
   ending.interrupted = [&](double wall_s) {
     log->info("calibration interrupted by shutdown after {:.3f} s; it runs again on restart",
               wall_s);
-    AddEvent(job.id, "INTERRUPTED", "shutdown during a calibration (no checkpoints: reruns)");
+    AddEvent(job.id, running, "INTERRUPTED",
+             "shutdown during a calibration (no checkpoints: reruns)");
   };
   ending.succeed = [&](double wall_s) -> Status {
     const std::vector<std::pair<std::string, double>> metrics = CalibrationJobMetrics(records);
@@ -110,14 +116,13 @@ void JobRunner::RunCalibration(const JobRecord& job, Running& running) {
     for (const core::CalibrationRecord& r : records)
       solves += static_cast<std::uint64_t>(r.iterations);
     if (auto s =
-            store_.UpdateProgress(job.id, running.epoch, JobProgress::At(solves, 0.0, 1.0, 0.0));
+            ledger_.UpdateProgress(job.id, running.epoch, JobProgress::At(solves, 0.0, 1.0, 0.0));
         !s.ok()) {
       log->warn("final progress not stored: {}", s.ToString());
     }
     const auto write_result = [&]() -> Status {
-      SEEP_RETURN_IF_ERROR(store_.RecordCalibrations(job.id, running.epoch, rows, tags));
-      return store_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", metrics, wall_s,
-                           NowMs());
+      SEEP_RETURN_IF_ERROR(store_->RecordCalibrations(job.id, running.epoch, rows, tags));
+      return ledger_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", metrics, wall_s);
     };
     SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "calibration result", true, write_result));
     log->info("calibration succeeded in {:.3f} s: {} target(s), {} permeameter solves", wall_s,

@@ -4,11 +4,13 @@
 
 namespace seep::service {
 
-std::optional<RestoredCheckpoint> LoadNewestCheckpoint(
-    const JobRecord& job, std::span<const CheckpointRecord> newest_first, core::Simulation& sim,
+std::optional<VerifiedCheckpoint> NextVerifiedCheckpoint(
+    const JobRecord& job, std::span<const CheckpointRecord> newest_first,
+    std::optional<std::uint64_t> below_step,
     const std::function<void(const SkippedCheckpoint&)>& on_skip) {
   const std::string scene_sha256 = Sha256(job.scene);
   for (const CheckpointRecord& record : newest_first) {
+    if (below_step && record.step >= *below_step) continue;
     auto file = ReadCheckpointFile(record.path);
     if (!file.ok()) {
       on_skip({record, file.status()});
@@ -18,16 +20,27 @@ std::optional<RestoredCheckpoint> LoadNewestCheckpoint(
       on_skip({record, core::DataLoss("belongs to another job or scene"), /*foreign=*/true});
       continue;
     }
-    auto snapshot = ParseSimulationState(file->state);
+    return VerifiedCheckpoint{record, std::move(*file)};
+  }
+  return std::nullopt;
+}
+
+std::optional<RestoredCheckpoint> LoadNewestCheckpoint(
+    const JobRecord& job, std::span<const CheckpointRecord> newest_first, core::Simulation& sim,
+    const std::function<void(const SkippedCheckpoint&)>& on_skip) {
+  std::optional<std::uint64_t> below;
+  while (auto verified = NextVerifiedCheckpoint(job, newest_first, below, on_skip)) {
+    below = verified->record.step;
+    auto snapshot = ParseSimulationState(verified->file.state);
     if (!snapshot.ok()) {
-      on_skip({record, snapshot.status()});
+      on_skip({verified->record, snapshot.status()});
       continue;
     }
     if (core::Status restored = sim.Restore(*snapshot); !restored.ok()) {
-      on_skip({record, restored});
+      on_skip({verified->record, restored});
       continue;
     }
-    return RestoredCheckpoint{record, std::move(file->meta)};
+    return RestoredCheckpoint{verified->record, std::move(verified->file.meta)};
   }
   return std::nullopt;
 }

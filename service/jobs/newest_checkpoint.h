@@ -29,6 +29,19 @@ struct RestoredCheckpoint {
   CheckpointMeta meta;  // its header: the build that wrote it, its step and time
 };
 
+struct VerifiedCheckpoint {
+  const CheckpointRecord& record;
+  CheckpointFile file;
+};
+
+// The file-level half: the first of `newest_first` with a step below `below_step` (none: any)
+// whose file reads, verifies and belongs to the job and its scene; nullopt when none does. What
+// a remote worker downloads (it parses and restores the state itself).
+std::optional<VerifiedCheckpoint> NextVerifiedCheckpoint(
+    const JobRecord& job, std::span<const CheckpointRecord> newest_first,
+    std::optional<std::uint64_t> below_step,
+    const std::function<void(const SkippedCheckpoint&)>& on_skip);
+
 // Restores `sim` from the first of `newest_first` that is usable; nullopt when none is.
 std::optional<RestoredCheckpoint> LoadNewestCheckpoint(
     const JobRecord& job, std::span<const CheckpointRecord> newest_first, core::Simulation& sim,

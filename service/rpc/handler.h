@@ -5,42 +5,19 @@
 #include <fmt/format.h>
 
 #include <cstdint>
-#include <exception>
 #include <string>
-#include <type_traits>
+#include <utility>
 
+#include "rpc/guarded_call.h"
 #include "rpc/seep_service.h"
-#include "rpc/status_mapping.h"
 
 namespace seep::service {
 
-// The caller is authenticated first (when seepd has a token; a refusal is logged), and no
-// exception escapes into gRPC: it is logged and the caller gets INTERNAL "<rpc>: internal error".
-// Every outcome is counted by method and code (ServiceMetrics), when seepd keeps metrics.
-// The body returns a grpc::Status or a core::Status (mapped by ToGrpcStatus).
+// GuardedCall (rpc/guarded_call.h) with this service's token, log and metrics.
 template <typename Fn>
 grpc::Status SeepServiceImpl::Guarded(const grpc::ServerContext* ctx, const char* rpc,
                                       Fn&& fn) const {
-  const auto counted = [&](grpc::Status status) {
-    if (metrics_ != nullptr) metrics_->CountRpc(rpc, GrpcCodeName(status.error_code()));
-    return status;
-  };
-  if (guards_.auth != nullptr) {
-    if (grpc::Status denied = guards_.auth->Check(*ctx); !denied.ok()) {
-      logger_->warn("{} from {}: refused: {}", rpc, ctx->peer(), denied.error_message());
-      return counted(denied);
-    }
-  }
-  try {
-    if constexpr (std::is_same_v<std::invoke_result_t<Fn>, core::Status>) {
-      return counted(ToGrpcStatus(fn()));
-    } else {
-      return counted(fn());
-    }
-  } catch (const std::exception& e) {
-    logger_->error("{}: unexpected exception: {}", rpc, e.what());
-    return counted({grpc::StatusCode::INTERNAL, fmt::format("{}: internal error", rpc)});
-  }
+  return GuardedCall(guards_.auth, *logger_, metrics_, ctx, rpc, std::forward<Fn>(fn));
 }
 
 // INVALID_ARGUMENT "<field>: is required" for an empty id.

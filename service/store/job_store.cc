@@ -509,7 +509,8 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
 
 Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& owner,
                                                            std::int64_t now_ms,
-                                                           std::int64_t lease_ms) {
+                                                           std::int64_t lease_ms,
+                                                           std::optional<JobKind> kind) {
   const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
@@ -517,10 +518,15 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& ow
       Stmt s,
       db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
                    "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
-                   "(SELECT rowid FROM jobs WHERE state = 'QUEUED' ORDER BY priority DESC, rowid "
-                   "LIMIT 1) "
+                   "(SELECT rowid FROM jobs WHERE state = 'QUEUED' AND (? IS NULL OR kind = ?) "
+                   "ORDER BY priority DESC, rowid LIMIT 1) "
                    "RETURNING id"));
   s.Bind(1, now_ms).Bind(2, std::string_view(owner)).Bind(3, now_ms + lease_ms);
+  if (kind) {
+    s.Bind(4, std::string_view(JobKindName(*kind))).Bind(5, std::string_view(JobKindName(*kind)));
+  } else {
+    s.BindNull(4).BindNull(5);
+  }
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return std::optional<JobRecord>();
   const std::string id = s.ColumnText(0);

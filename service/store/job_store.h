@@ -104,9 +104,11 @@ class JobStore {
                        const JobFilter& filter = {});
 
   // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
-  // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it.
+  // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it; with `kind` set,
+  // only a job of that kind (a remote worker runs simulations only).
   Result<std::optional<JobRecord>> ClaimNextQueued(const std::string& owner, std::int64_t now_ms,
-                                                   std::int64_t lease_ms);
+                                                   std::int64_t lease_ms,
+                                                   std::optional<JobKind> kind = std::nullopt);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
   // over (or whose job is no longer RUNNING) gets ABORTED and must stop the job.
   // Heartbeat extends the lease and returns whether a cancel was requested.
@@ -167,6 +169,10 @@ class JobStore {
   // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
                   const std::string& message);
+  // AddEvent by the worker holding the job's lease: fenced by the lease epoch (ABORTED when the
+  // job is no longer RUNNING under it), so a worker that lost its job leaves no trace in it.
+  Status AddLeasedEvent(const std::string& id, std::int64_t epoch, std::int64_t at_ms,
+                        const std::string& kind, const std::string& message);
   // The job's events after the event `after_id` (0: from the first), at most `limit`; an unknown
   // job is NOT_FOUND.
   Result<std::vector<JobEventRecord>> ListEvents(const std::string& id, std::int64_t after_id = 0,

@@ -216,6 +216,16 @@ Status JobStore::AddEvent(const std::string& id, std::int64_t at_ms, const std::
   return AddEventLocked(*db_, id, at_ms, kind, message);
 }
 
+Status JobStore::AddLeasedEvent(const std::string& id, std::int64_t epoch, std::int64_t at_ms,
+                                const std::string& kind, const std::string& message) {
+  const StoreOperation operation("add event");
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, at_ms, kind, message));
+  return tx.Commit();
+}
+
 Result<std::vector<JobEventRecord>> JobStore::ListEvents(const std::string& id,
                                                          std::int64_t after_id,
                                                          std::uint32_t limit) {

@@ -14,6 +14,7 @@
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
 #include "jobs/physics_pool.h"
+#include "jobs/store_ledger.h"
 #include "rpc/seep_service.h"
 #include "store/job_store.h"
 #include "test_support.h"
@@ -38,11 +39,12 @@ class ForkTest : public ::testing::Test {
     options.workers = 1;
     options.threads_per_job = 1;
     options.build_id = "test";
-    options.checkpoints.dir = dir_ / "checkpoints";
+    options.checkpoints.enabled = true;
+    ledger_.emplace(*store_, dir_ / "checkpoints", logger_);
     options.checkpoints.every_steps = kCheckpointEvery;
     options.checkpoints.interval = std::chrono::milliseconds(0);
     options.checkpoints.keep = 100;
-    runner_.emplace(*store_, hub_, options, logger_);
+    runner_.emplace(*ledger_, &*store_, hub_, options, logger_);
     physics_.emplace(/*threads=*/1, 1, /*max_waiting=*/4);
     service_.emplace(*store_, hub_, *physics_, "test",
                      ServiceHooks{[this] { runner_->Wake(); }, {}}, logger_);
@@ -156,6 +158,7 @@ class ForkTest : public ::testing::Test {
   std::unique_ptr<JobStore> store_;
   JobHub hub_;
   std::shared_ptr<spdlog::logger> logger_;
+  std::optional<StoreLedger> ledger_;
   std::optional<JobRunner> runner_;
   bool runner_started_ = false;
   std::optional<PhysicsPool> physics_;

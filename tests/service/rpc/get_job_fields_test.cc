@@ -18,6 +18,7 @@
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
 #include "jobs/physics_pool.h"
+#include "jobs/store_ledger.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
 #include "store/job_store.h"
@@ -45,8 +46,9 @@ class GetJobFieldsTest : public ::testing::Test {
     options.workers = 1;
     options.threads_per_job = 2;
     options.build_id = "test";
-    options.checkpoints.dir = dir_ / "checkpoints";
-    runner_.emplace(*store_, hub_, options, logger_);
+    options.checkpoints.enabled = true;
+    ledger_.emplace(*store_, dir_ / "checkpoints", logger_);
+    runner_.emplace(*ledger_, &*store_, hub_, options, logger_);
     physics_.emplace(/*threads=*/1, options.threads_per_job, /*max_waiting=*/4);
     service_.emplace(*store_, hub_, *physics_, "test",
                      ServiceHooks{[this] { runner_->Wake(); }, {}}, logger_,
@@ -121,6 +123,7 @@ class GetJobFieldsTest : public ::testing::Test {
   JobHub hub_;
   std::optional<BearerAuth> auth_;
   std::shared_ptr<spdlog::logger> logger_;
+  std::optional<StoreLedger> ledger_;
   std::optional<JobRunner> runner_;
   std::optional<PhysicsPool> physics_;
   std::optional<SeepServiceImpl> service_;

@@ -1,0 +1,81 @@
+// JobLedger: everything a worker asks of the ledger of jobs while it runs one, in one interface,
+// so that the one runner (JobRunner) runs jobs inside seepd (StoreLedger: the JobStore and the
+// data folder's checkpoint files) and in seep-worker on another host (RemoteLedger: the same
+// calls over gRPC to seepd's seep.v1.WorkerService). Results are bit-identical by construction:
+// the same code takes the same steps on the same state either way.
+//
+// Every write names the lease epoch of the claim (a fencing token): a worker whose lease was
+// taken over, or whose job is no longer RUNNING, gets ABORTED and must stop without writing.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "seep/core/status.h"
+#include "store/checkpoint_io.h"
+#include "store/job_record.h"
+
+namespace seep::service {
+
+// A checkpoint as a worker receives it to resume from: its header and the state bytes, which
+// verified (every chunk's and the whole file's SHA-256) and belong to the job and its scene.
+struct FetchedCheckpoint {
+  std::uint64_t step = 0;  // of its record (a resume that cannot use it asks for one below)
+  CheckpointMeta meta;
+  std::string state;
+  std::string name;  // the file's name in the ledger's folder, for logs and events
+};
+
+class JobLedger {
+ public:
+  virtual ~JobLedger() = default;
+
+  // The queued job of highest priority, moved to RUNNING under a new lease of `owner` that
+  // lasts `lease` (the ledger's clock), or nullopt when none is queued.
+  virtual core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
+                                                       std::chrono::milliseconds lease) = 0;
+  // Extends the lease by `lease` from now; true when a cancel of the job was requested.
+  virtual core::Result<bool> Heartbeat(const std::string& id, std::int64_t epoch,
+                                       std::chrono::milliseconds lease) = 0;
+  virtual core::Status UpdateProgress(const std::string& id, std::int64_t epoch,
+                                      const JobProgress& progress) = 0;
+  // One line of the job's history (CLAIMED, RESUMED, CHECKPOINT_SKIPPED, ...).
+  virtual core::Status AddEvent(const std::string& id, std::int64_t epoch, const std::string& kind,
+                                const std::string& message) = 0;
+
+  // Keeps `state` as the job's checkpoint at meta.step (its file written atomically and
+  // verified, then recorded, and the job's checkpoints beyond the newest `keep` removed).
+  // Returns the file's size in bytes.
+  virtual core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job,
+                                                    const CheckpointMeta& meta,
+                                                    std::string_view state, std::uint32_t keep) = 0;
+  // The newest recorded checkpoint of the job below `below_step` (none: any) that verifies and
+  // belongs to the job and its scene; those passed over are recorded as CHECKPOINT_SKIPPED
+  // events. nullopt when there is none.
+  virtual core::Result<std::optional<FetchedCheckpoint>> NewestCheckpoint(
+      const JobRecord& job, std::optional<std::uint64_t> below_step) = 0;
+
+  // A run that succeeded: its time series and final-state hash, stored before Finish.
+  virtual core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
+                                         const std::vector<std::string>& columns,
+                                         const std::vector<double>& values,
+                                         const std::string& state_sha256) = 0;
+  // The terminal state with its metrics (SUCCEEDED) or its error (FAILED, CANCELLED).
+  virtual core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
+                              const std::string& error_code, const std::string& error_message,
+                              const std::vector<std::pair<std::string, double>>& metrics,
+                              double wall_time_s) = 0;
+  // A worker stopped by its own shutdown, its job checkpointed, gives the job back. Inside seepd
+  // the job stays RUNNING with its lease released (no expiry), and seepd's next start queues it
+  // again without counting an interruption; from a remote worker the lease ends at once and the
+  // coordinator's rescuer queues the job again on its next round (the new checkpoint is the
+  // progress that keeps it from counting as an interruption without progress).
+  virtual core::Status ReleaseLease(const std::string& id, std::int64_t epoch) = 0;
+};
+
+}  // namespace seep::service

@@ -1,0 +1,54 @@
+// StoreLedger: the JobLedger of seepd itself, over its JobStore and the checkpoint files of its
+// data folder. seepd's own workers use it, and so does the WorkerService on behalf of remote
+// workers (whose uploaded checkpoints thus land where a local worker's would).
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "jobs/job_ledger.h"
+#include "jobs/test_crash_points.h"
+#include "store/job_store.h"
+
+namespace seep::service {
+
+class StoreLedger final : public JobLedger {
+ public:
+  // Checkpoint files go to <checkpoint_dir>/<job id>/ckpt-<step>.bin. `crash_points` (test only,
+  // may be null) is passed between a checkpoint file and its record.
+  StoreLedger(JobStore& store, std::filesystem::path checkpoint_dir,
+              std::shared_ptr<spdlog::logger> logger,
+              const TestCrashPoints* crash_points = nullptr);
+
+  core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
+                                               std::chrono::milliseconds lease) override;
+  core::Result<bool> Heartbeat(const std::string& id, std::int64_t epoch,
+                               std::chrono::milliseconds lease) override;
+  core::Status UpdateProgress(const std::string& id, std::int64_t epoch,
+                              const JobProgress& progress) override;
+  core::Status AddEvent(const std::string& id, std::int64_t epoch, const std::string& kind,
+                        const std::string& message) override;
+  core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job, const CheckpointMeta& meta,
+                                            std::string_view state, std::uint32_t keep) override;
+  core::Result<std::optional<FetchedCheckpoint>> NewestCheckpoint(
+      const JobRecord& job, std::optional<std::uint64_t> below_step) override;
+  core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
+                                 const std::vector<std::string>& columns,
+                                 const std::vector<double>& values,
+                                 const std::string& state_sha256) override;
+  core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
+                      const std::string& error_code, const std::string& error_message,
+                      const std::vector<std::pair<std::string, double>>& metrics,
+                      double wall_time_s) override;
+  core::Status ReleaseLease(const std::string& id, std::int64_t epoch) override;
+
+ private:
+  JobStore& store_;
+  std::filesystem::path checkpoint_dir_;
+  std::shared_ptr<spdlog::logger> logger_;
+  const TestCrashPoints* crash_points_;
+};
+
+}  // namespace seep::service

@@ -1,0 +1,73 @@
+// WorkerServiceImpl: seep.v1.WorkerService (proto/seep/v1/worker_service.proto), the calls of
+// remote workers (seep-worker). Thin: each call checks its request (INVALID_ARGUMENT naming the
+// field), finds the job (NOT_FOUND), checks the lease (ABORTED for a stale epoch) and hands the
+// write to seepd's StoreLedger, whose store writes are fenced by the epoch once more; progress
+// and outcomes also reach the JobHub, so WatchJob follows a remote job as a local one.
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <cstdint>
+#include <memory>
+
+#include "jobs/job_hub.h"
+#include "jobs/store_ledger.h"
+#include "metrics/service_metrics.h"
+#include "rpc/bearer_auth.h"
+#include "seep/v1/worker_service.grpc.pb.h"
+#include "store/job_store.h"
+
+namespace seep::service {
+
+// The default of seepd --max-checkpoint-bytes: what protobuf can serialize in one message, the
+// most a state can be anyway (state_size_estimate refuses larger scenes at submit).
+inline constexpr std::uint64_t kDefaultMaxCheckpointUploadBytes = 2147483647;
+
+struct WorkerServiceOptions {
+  const BearerAuth* auth = nullptr;  // null: no token required (owned by the caller)
+  // An upload whose declared state is larger fails RESOURCE_EXHAUSTED before any byte is kept.
+  std::uint64_t max_checkpoint_bytes = kDefaultMaxCheckpointUploadBytes;
+};
+
+class WorkerServiceImpl final : public v1::WorkerService::Service {
+ public:
+  WorkerServiceImpl(JobStore& store, StoreLedger& ledger, JobHub& hub,
+                    std::shared_ptr<spdlog::logger> logger, WorkerServiceOptions options = {},
+                    ServiceMetrics* metrics = nullptr);
+
+  using Ctx = grpc::ServerContext;
+  grpc::Status ClaimJob(Ctx*, const v1::ClaimJobRequest*, v1::ClaimJobResponse*) override;
+  grpc::Status Heartbeat(Ctx*, const v1::HeartbeatRequest*, v1::HeartbeatResponse*) override;
+  grpc::Status ReportProgress(Ctx*, const v1::ReportProgressRequest*,
+                              v1::ReportProgressResponse*) override;
+  grpc::Status AddJobEvent(Ctx*, const v1::AddJobEventRequest*, v1::AddJobEventResponse*) override;
+  grpc::Status UploadCheckpoint(Ctx*, grpc::ServerReader<v1::UploadCheckpointRequest>*,
+                                v1::UploadCheckpointResponse*) override;
+  grpc::Status DownloadCheckpoint(Ctx*, const v1::DownloadCheckpointRequest*,
+                                  grpc::ServerWriter<v1::DownloadCheckpointResponse>*) override;
+  grpc::Status StoreResultSeries(Ctx*, const v1::StoreResultSeriesRequest*,
+                                 v1::StoreResultSeriesResponse*) override;
+  grpc::Status FinishJob(Ctx*, const v1::FinishJobRequest*, v1::FinishJobResponse*) override;
+  grpc::Status ReturnJob(Ctx*, const v1::ReturnJobRequest*, v1::ReturnJobResponse*) override;
+
+ private:
+  template <typename Fn>
+  grpc::Status Guarded(const grpc::ServerContext* ctx, const char* rpc, Fn&& fn) const;
+  // The job a lease names, when it is RUNNING under that epoch: INVALID_ARGUMENT for a missing
+  // field (named `field`.job_id / .lease_epoch), NOT_FOUND for an unknown job, ABORTED when the
+  // lease was taken over or the job is no longer RUNNING. with_scene: also its scene bytes.
+  core::Result<JobRecord> HeldJob(const v1::LeaseRef& lease, const char* field, bool with_scene);
+  // The checkpoint upload after its first message: chunks read, checked and kept.
+  grpc::Status ReceiveCheckpoint(grpc::ServerReader<v1::UploadCheckpointRequest>& reader,
+                                 const v1::CheckpointUploadStart& start,
+                                 v1::UploadCheckpointResponse* response);
+
+  JobStore& store_;
+  StoreLedger& ledger_;
+  JobHub& hub_;
+  std::shared_ptr<spdlog::logger> logger_;
+  WorkerServiceOptions options_;
+  ServiceMetrics* metrics_;
+};
+
+}  // namespace seep::service

@@ -1,0 +1,148 @@
+// seep-worker: a remote worker. It leases simulation jobs from a seepd over gRPC
+// (seep.v1.WorkerService) and runs them with the very runner seepd's own workers use
+// (service/jobs/job_runner.h) over a RemoteLedger: progress and heartbeats go up, checkpoints go
+// up in chunks (and come down to resume), results and outcomes go up, each fenced by the lease
+// epoch. It keeps nothing on disk: killed at any moment, it loses the work since the job's last
+// checkpoint, and the coordinator's rescuer queues the job again when its lease expires.
+// SIGINT/SIGTERM: running jobs stop at a step boundary, are checkpointed and given back.
+#include <semaphore.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <string>
+
+#include "connection.h"
+#include "jobs/job_hub.h"
+#include "jobs/job_runner.h"
+#include "jobs/runner_flags.h"
+#include "jobs/secure_random.h"
+#include "worker/remote_ledger.h"
+
+namespace {
+
+sem_t g_stop_signalled;
+volatile std::sig_atomic_t g_stopping = 0;
+
+// Exit status when a second signal cuts the drain short (as seepd's).
+constexpr int kExitShutdownForced = 3;
+
+extern "C" void OnStopSignal(int) {
+  if (g_stopping != 0) _exit(kExitShutdownForced);  // a second signal: at once
+  g_stopping = 1;
+  sem_post(&g_stop_signalled);  // async-signal-safe
+}
+
+struct Options {
+  seep::client::Connection connection;
+  double timeout_s = 10.0;
+  seep::service::RunnerFlags runner;  // workers, threads, lease, checkpoints, log level
+  std::string name;                   // the lease owner's prefix; default: the host name
+};
+
+std::string HostName() {
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') return "worker";
+  return host;
+}
+
+int Run(Options& options) {
+  auto logger = std::make_shared<spdlog::logger>(
+      "seep-worker", std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
+  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %v");
+  logger->set_level(spdlog::level::from_str(options.runner.log_level));
+  logger->flush_on(spdlog::level::info);
+  if (const std::string problem = seep::client::LoadConnectionSecrets(options.connection);
+      !problem.empty()) {
+    std::fprintf(stderr, "seep-worker: %s\n", problem.c_str());
+    return 2;
+  }
+  const auto owner_bits = seep::service::SecureRandomU64();
+  if (!owner_bits.ok()) {
+    logger->critical("{}", owner_bits.status().message());
+    return 1;
+  }
+  const std::string owner =
+      fmt::format("{}-{}-{:08x}", options.name.empty() ? HostName() : options.name, ::getpid(),
+                  static_cast<std::uint32_t>(*owner_bits));
+
+  sem_init(&g_stop_signalled, 0, 0);
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+
+  const seep::client::Connection& connection = options.connection;
+  seep::service::RemoteLedger ledger(
+      seep::client::OpenSeepdChannel(connection),
+      [&connection](grpc::ClientContext* ctx) { seep::client::AddToken(connection, ctx); },
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_s * 1000)));
+  seep::service::JobRunnerOptions runner_options = seep::service::RunnerOptionsFrom(options.runner);
+  runner_options.build_id = SEEP_BUILD_ID;
+  runner_options.lease_owner = owner;
+  seep::service::JobHub hub;  // nobody follows here: seepd's hub hears of progress through RPCs
+  seep::service::JobRunner runner(ledger, /*store=*/nullptr, hub, runner_options, logger);
+  logger->info(
+      "seep-worker {} as {}: leasing jobs from {} ({}{}), {} at a time of {} thread(s), leases "
+      "of {} s",
+      SEEP_BUILD_ID, owner, connection.server,
+      connection.tls || !connection.tls_ca.empty() ? "TLS" : "plaintext",
+      connection.token.empty() ? "" : ", bearer token", options.runner.workers,
+      runner_options.threads_per_job, options.runner.lease_s);
+  runner.Start();
+  while (sem_wait(&g_stop_signalled) != 0) {
+  }  // EINTR: wait again
+  logger->info(
+      "stopping: running jobs stop at a step, are checkpointed and given back (a second signal "
+      "exits at once)");
+  runner.Stop();
+  logger->info("seep-worker stopped");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  CLI::App app{"seep-worker: runs seep jobs leased from a seepd (seepd --workers 0 runs none)"};
+  app.add_option("--server", options.connection.server, "seepd address")
+      ->envname("SEEP_SERVER")
+      ->capture_default_str();
+  app.add_option("--token", options.connection.token,
+                 "bearer token of a seepd started with a token (visible in ps: prefer "
+                 "SEEP_TOKEN or --token-file)")
+      ->envname("SEEP_TOKEN");
+  app.add_option("--token-file", options.connection.token_file,
+                 "read the bearer token from this file (wins over --token and SEEP_TOKEN)");
+  app.add_flag("--tls", options.connection.tls,
+               "connect with TLS, trusting the system's root certificates");
+  app.add_option("--tls-ca", options.connection.tls_ca,
+                 "connect with TLS, trusting this PEM CA (or self-signed) certificate");
+  app.add_option("--timeout", options.timeout_s,
+                 "seconds each call may take (a checkpoint transfer ten times as long)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--workers", options.runner.workers, "jobs run at the same time")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  seep::service::AddRunnerFlags(
+      app, options.runner,
+      "seconds a job's lease lasts without a heartbeat; a worker that dies loses its jobs to the "
+      "coordinator's rescuer this long after (must exceed the longest step or scene set-up)");
+  app.add_option("--name", options.name,
+                 "names this worker in leases and events (default: the host name); the pid and "
+                 "a random suffix are added");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return Run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "seep-worker: fatal: %s\n", e.what());
+    return 1;
+  }
+}

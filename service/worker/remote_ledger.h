@@ -1,0 +1,63 @@
+// RemoteLedger: the JobLedger of a remote worker (seep-worker), each call one WorkerService RPC
+// to the coordinating seepd (proto/seep/v1/worker_service.proto). Checkpoints go up in chunks of
+// at most 1 MiB with their size and SHA-256 and come down the same way, verified before use; the
+// worker keeps nothing on its own disk.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "jobs/job_ledger.h"
+#include "seep/v1/worker_service.grpc.pb.h"
+
+namespace seep::service {
+
+class RemoteLedger final : public JobLedger {
+ public:
+  // `prepare` sets what every call carries (the bearer token); `timeout` bounds each unary call
+  // (a checkpoint transfer gets ten times as long).
+  RemoteLedger(const std::shared_ptr<grpc::Channel>& channel,
+               std::function<void(grpc::ClientContext*)> prepare,
+               std::chrono::milliseconds timeout);
+
+  core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
+                                               std::chrono::milliseconds lease) override;
+  core::Result<bool> Heartbeat(const std::string& id, std::int64_t epoch,
+                               std::chrono::milliseconds lease) override;
+  core::Status UpdateProgress(const std::string& id, std::int64_t epoch,
+                              const JobProgress& progress) override;
+  core::Status AddEvent(const std::string& id, std::int64_t epoch, const std::string& kind,
+                        const std::string& message) override;
+  core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job, const CheckpointMeta& meta,
+                                            std::string_view state, std::uint32_t keep) override;
+  core::Result<std::optional<FetchedCheckpoint>> NewestCheckpoint(
+      const JobRecord& job, std::optional<std::uint64_t> below_step) override;
+  core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
+                                 const std::vector<std::string>& columns,
+                                 const std::vector<double>& values,
+                                 const std::string& state_sha256) override;
+  core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
+                      const std::string& error_code, const std::string& error_message,
+                      const std::vector<std::pair<std::string, double>>& metrics,
+                      double wall_time_s) override;
+  core::Status ReleaseLease(const std::string& id, std::int64_t epoch) override;
+
+ private:
+  // A context with the token and a deadline of `timeout` from now.
+  std::unique_ptr<grpc::ClientContext> Context(std::chrono::milliseconds timeout) const;
+
+  std::unique_ptr<v1::WorkerService::Stub> stub_;
+  std::function<void(grpc::ClientContext*)> prepare_;
+  std::chrono::milliseconds timeout_;
+};
+
+// A gRPC status as the runner reads it: the codes core knows keep their meaning (ABORTED: the
+// lease is lost; UNAVAILABLE: try again), DEADLINE_EXCEEDED counts as UNAVAILABLE, the others
+// become INTERNAL; the message starts with the call and the gRPC code's name.
+core::Status FromGrpcStatus(const char* rpc, const grpc::Status& status);
+
+}  // namespace seep::service
