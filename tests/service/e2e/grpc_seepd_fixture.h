@@ -97,9 +97,15 @@ class GrpcSeepdTest : public ::testing::Test {
                                                          grpc::InsecureChannelCredentials()));
   }
 
+  // A deadline 10 s away, and the bearer token when the test set one (token_).
+  void Prepare(grpc::ClientContext& ctx) const {
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    if (!token_.empty()) ctx.AddMetadata("authorization", "Bearer " + token_);
+  }
+
   std::string Submit(const v1::Scene& scene) {
     grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    Prepare(ctx);
     v1::SubmitJobRequest request;
     *request.mutable_scene() = scene;
     v1::SubmitJobResponse response;
@@ -110,7 +116,7 @@ class GrpcSeepdTest : public ::testing::Test {
 
   v1::Job Get(const std::string& id) {
     grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    Prepare(ctx);
     v1::GetJobRequest request;
     request.set_id(id);
     v1::GetJobResponse response;
@@ -187,6 +193,7 @@ class GrpcSeepdTest : public ::testing::Test {
   std::filesystem::path dir_;
   ChildProcess server_;
   std::unique_ptr<v1::SeepService::Stub> stub_;
+  std::string token_;  // sent with every call when set (a seepd started with --token-file)
 
  private:
   std::string prefix_;

@@ -61,13 +61,25 @@ class RemoteWorkers : public GrpcSeepdTest {
   }
 
   // A seep-worker on the coordinator, named `name` in its leases; output to <name>-<n>.out.
-  ChildProcess StartWorker(const std::string& name, double lease_s) {
+  // `extra` flags follow (e.g. --token-file).
+  ChildProcess StartWorker(const std::string& name, double lease_s,
+                           const std::vector<std::string>& extra = {}) {
     const std::string log = (dir_ / fmt::format("{}-{}.out", name, ++worker_starts_)).string();
-    return ChildProcess({SEEP_WORKER_PATH, "--server", "127.0.0.1:" + std::to_string(port_),
-                         "--name", name, "--lease-s", fmt::format("{}", lease_s),
-                         "--checkpoint-every-steps", std::to_string(kCheckpointEverySteps),
-                         "--checkpoint-interval-s", "0", "--threads-per-job", "1"},
-                        log);
+    std::vector<std::string> argv = {SEEP_WORKER_PATH,
+                                     "--server",
+                                     "127.0.0.1:" + std::to_string(port_),
+                                     "--name",
+                                     name,
+                                     "--lease-s",
+                                     fmt::format("{}", lease_s),
+                                     "--checkpoint-every-steps",
+                                     std::to_string(kCheckpointEverySteps),
+                                     "--checkpoint-interval-s",
+                                     "0",
+                                     "--threads-per-job",
+                                     "1"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return ChildProcess(argv, log);
   }
 
   v1::SubmitSweepResponse SubmitSweep(const v1::Sweep& sweep) {
@@ -89,7 +101,7 @@ class RemoteWorkers : public GrpcSeepdTest {
 
   std::vector<v1::JobHistoryEvent> Events(const std::string& id) {
     grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    Prepare(ctx);
     v1::ListJobEventsRequest request;
     request.set_id(id);
     request.set_page_size(1000);
@@ -350,6 +362,65 @@ TEST_F(RemoteWorkers, BadWorkerCallsAreRefusedNamingTheFieldAndKeepNothing) {
                    "lease.lease_epoch");
   }
   EXPECT_EQ(Get(id).state(), v1::JOB_STATE_RUNNING);
+}
+
+TEST_F(RemoteWorkers, ATokenIsRequiredAndASigtermedWorkerGivesItsJobBack) {
+  v1::Scene scene = LatticeScene("given-back", 8e-2);
+  Start("reference", {"--workers", "1"});
+  const v1::Job reference = WaitTerminal(Submit(scene));
+  ASSERT_EQ(reference.state(), v1::JOB_STATE_SUCCEEDED) << reference.DebugString();
+  stub_.reset();
+  ASSERT_EQ(server_.Stop(SIGTERM), 0);
+
+  token_ = "remote-worker-token-0123456789";
+  const std::filesystem::path token_file = dir_ / "token";
+  std::ofstream(token_file) << token_ << "\n";
+  std::filesystem::permissions(
+      token_file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  StartCoordinator({"--workers", "0", "--lease-s", "2", "--token-file", token_file.string()});
+  const std::string id = Submit(scene);
+  // Without the token a worker claims nothing: every call is UNAUTHENTICATED.
+  steady_ = StartWorker("tokenless", 30.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_EQ(steady_.Stop(SIGTERM), 0);
+  EXPECT_EQ(Get(id).state(), v1::JOB_STATE_QUEUED);
+  EXPECT_NE(ReadFile(dir_ / "tokenless-1.out").find("UNAUTHENTICATED"), std::string::npos);
+
+  // With it (the CLI's --token-file), it runs the job; SIGTERM checkpoints the job and gives it
+  // back, and the coordinator queues it again for the next worker, which continues from there.
+  steady_ = StartWorker("first", 30.0, {"--token-file", token_file.string()});
+  ASSERT_TRUE(WaitUntilRunningPastACheckpoint({id}, "first", steady_));
+  EXPECT_EQ(steady_.Stop(SIGTERM), 0);
+  const auto queued_again = std::chrono::steady_clock::now();
+  for (;;) {
+    const v1::JobState state = Get(id).state();
+    if (state != v1::JOB_STATE_RUNNING) {
+      EXPECT_EQ(state, v1::JOB_STATE_QUEUED);
+      break;
+    }
+    ASSERT_LT(std::chrono::steady_clock::now() - queued_again, std::chrono::seconds(10))
+        << "the job given back was not queued again";
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  killed_ = StartWorker("second", 30.0, {"--token-file", token_file.string()});
+  v1::Job done;
+  for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);;) {
+    done = Get(id);
+    if (done.state() == v1::JOB_STATE_SUCCEEDED || std::chrono::steady_clock::now() > deadline) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.DebugString();
+  EXPECT_EQ(done.result().state_sha256(), reference.result().state_sha256());
+  std::vector<std::string> kinds;
+  for (const auto& e : Events(id)) kinds.push_back(e.kind());
+  const auto has = [&](const std::string& kind) {
+    return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+  };
+  EXPECT_TRUE(has("INTERRUPTED") && has("RESCUED") && has("RESUMED"))
+      << ::testing::PrintToString(kinds);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "SUCCEEDED"), 1);
 }
 
 }  // namespace
