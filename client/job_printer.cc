@@ -57,6 +57,12 @@ std::string FormatJob(const v1::Job& job) {
   if (!job.child_job_ids().empty()) {
     out += fmt::format("children  {}\n", fmt::join(job.child_job_ids(), ", "));
   }
+  if (job.has_batch()) {
+    // e.g. "slurm     job 4711 on node17, RUNNING"
+    out += fmt::format("{:<9} job {}{}{}\n", job.batch().system(), job.batch().job_id(),
+                       job.batch().node().empty() ? "" : " on " + job.batch().node(),
+                       job.batch().state().empty() ? "" : ", " + job.batch().state());
+  }
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
   }

@@ -13,6 +13,7 @@ packages=(
   python3-grpcio python3-protobuf  # tests: a Python gRPC client (stubs made by protoc) drives seepd
   python3-numpy  # the Python package (client/python): results, series and fields as arrays
   python3-pandas python3-tqdm  # optional for the package (DataFrames, progress bar); CI tests them
+  slurm-wlm munge  # tests (label slurm): seepd --executor slurm on a one-node cluster they start
 )
 
 sudo_cmd=()

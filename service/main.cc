@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "codec/scene_codec.h"
+#include "executor/slurm_executor.h"
 #include "jobs/checkpoint_sweep.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
@@ -89,7 +90,44 @@ struct Options {
   double keepalive_s = 30.0;
   std::string metrics_listen;  // empty: no metrics endpoint
   std::uint64_t max_checkpoint_bytes = seep::service::kDefaultMaxCheckpointUploadBytes;
+  std::string executor = "local";  // local: seepd's own workers (and remote ones) only; slurm
+  seep::service::SlurmExecutorOptions slurm;
+  std::string slurm_extra;        // split on whitespace
+  std::string slurm_worker_args;  // split on whitespace
+  double slurm_poll_s = 5.0;
 };
+
+// Words separated by white space (sbatch's and seep-worker's extra arguments; no quoting).
+std::vector<std::string> Words(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> words;
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
+}
+
+// The address a Slurm job's worker dials: --slurm-server, else the listen address with the bound
+// port, a wildcard host replaced by this host's name (a node cannot dial 0.0.0.0).
+std::string WorkerServerAddress(const Options& options, int port) {
+  if (!options.slurm.server.empty()) return options.slurm.server;
+  const auto colon = options.listen.rfind(':');
+  std::string host = colon == std::string::npos ? options.listen : options.listen.substr(0, colon);
+  if (host.empty() || host == "0.0.0.0" || host == "[::]" || host == "::") {
+    char name[256] = {};
+    host = ::gethostname(name, sizeof name - 1) == 0 && name[0] != '\0' ? name : "localhost";
+  }
+  return host + ":" + std::to_string(port);
+}
+
+// seep-worker beside this seepd (the build tree and an installation alike).
+std::string DefaultWorkerPath() {
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return "seep-worker";
+  const auto beside = self.parent_path() / "seep-worker";
+  if (std::filesystem::exists(beside)) return beside.string();
+  const auto in_build_tree = self.parent_path() / "worker" / "seep-worker";
+  return std::filesystem::exists(in_build_tree) ? in_build_tree.string() : "seep-worker";
+}
 
 // Waits for the drain to finish (`drained`), a second signal or the time limit; the last two end
 // the process at once, saying why.
@@ -414,9 +452,32 @@ int Run(const Options& options) {
   // GetJobFields' physics: one request at a time with a job's thread budget, a few more waiting.
   seep::service::PhysicsPool physics(/*threads=*/1, runner_options.threads_per_job,
                                      /*max_waiting=*/16);
+  // --executor slurm: batch jobs that start seep-worker, sized to the queue (started once the
+  // port is known).
+  std::optional<seep::service::SlurmExecutor> slurm;
+  if (options.executor == "slurm") {
+    seep::service::SlurmExecutorOptions slurm_options = options.slurm;
+    slurm_options.extra = Words(options.slurm_extra);
+    slurm_options.worker_args = Words(options.slurm_worker_args);
+    if (slurm_options.worker_path.empty()) slurm_options.worker_path = DefaultWorkerPath();
+    slurm_options.poll_interval =
+        std::chrono::milliseconds(static_cast<std::int64_t>(options.slurm_poll_s * 1000));
+    slurm_options.runner = options.runner;
+    if (token->has_value()) slurm_options.token = (*token)->token();
+    slurm.emplace(**store, options.data_dir, std::move(slurm_options), logger);
+  }
+  const auto wake_executors = [&] {
+    runner.Wake();
+    if (slurm) slurm->Wake();
+  };
   seep::service::SeepServiceImpl service(
       **store, hub, physics, SEEP_BUILD_ID,
-      {[&] { runner.Wake(); }, [&](const std::string& id) { runner.CancelRunning(id); }}, logger,
+      {wake_executors,
+       [&](const std::string& id) {
+         runner.CancelRunning(id);
+         if (slurm) slurm->Wake();
+       }},
+      logger,
       {authenticated ? &**token : nullptr, options.max_scene_bytes, options.max_response_bytes,
        options.max_watch_streams},
       &metrics);
@@ -475,6 +536,15 @@ int Run(const Options& options) {
                  options.metrics_listen.substr(0, options.metrics_listen.rfind(':')),
                  metrics_endpoint.port());
   }
+  // Before the port file: a seepd that cannot reach Slurm is not ready to serve.
+  if (slurm) {
+    // The workers dial the bound port (--listen may have asked for port 0).
+    slurm->SetServer(WorkerServerAddress(options, port));
+    if (auto started = slurm->Start(); !started.ok()) {
+      logger->critical("{}", started.message());
+      return 2;
+    }
+  }
   if (!options.port_file.empty() && !WritePortFile(options.port_file, port)) {
     logger->critical("cannot write --port-file {}", options.port_file);
     return 1;
@@ -494,6 +564,8 @@ int Run(const Options& options) {
     hub.Close();
     std::atomic<bool> drained{false};
     std::thread drain([&] {
+      // Batch jobs already submitted keep running: their workers reconnect to the next seepd.
+      if (slurm) slurm->Stop();
       retention.Stop();
       runner.Stop();
       server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
@@ -623,7 +695,71 @@ int main(int argc, char** argv) {
                  "RESOURCE_EXHAUSTED, nothing kept)")
       ->check(CLI::Range(std::uint64_t{1024}, seep::service::kDefaultMaxCheckpointUploadBytes))
       ->capture_default_str();
+  app.add_option("--executor", options.executor,
+                 "who runs the queued jobs besides seepd's --workers and seep-workers started by "
+                 "hand: local (nobody else) or slurm (sbatch jobs that start seep-worker; see the "
+                 "--slurm-* flags)")
+      ->check(CLI::IsMember({"local", "slurm"}))
+      ->capture_default_str();
+  app.add_option("--slurm-partition", options.slurm.partition,
+                 "sbatch --partition of the workers' jobs (default: the cluster's)")
+      ->group("Slurm executor");
+  app.add_option("--slurm-time", options.slurm.time_limit,
+                 "sbatch --time of the workers' jobs, e.g. 2:00:00 (default: the partition's); a "
+                 "worker checkpoints and gives its job back --slurm-signal-grace-s before it")
+      ->group("Slurm executor");
+  app.add_option("--slurm-extra", options.slurm_extra,
+                 "more sbatch arguments, separated by spaces (e.g. '--account=geo --qos=long')")
+      ->group("Slurm executor");
+  app.add_option("--slurm-pack", options.slurm.pack,
+                 "0: one Slurm job per seep job; N: Slurm jobs each running N jobs at a time "
+                 "until the queue is empty")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str()
+      ->group("Slurm executor");
+  app.add_option("--slurm-max-jobs", options.slurm.max_batch_jobs,
+                 "most Slurm jobs of this seepd pending or running at once")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str()
+      ->group("Slurm executor");
+  app.add_option("--slurm-worker", options.slurm.worker_path,
+                 "seep-worker's path on the compute nodes (default: the one beside this seepd)")
+      ->group("Slurm executor");
+  app.add_option("--slurm-server", options.slurm.server,
+                 "the address the workers dial (default: --listen with the bound port, a "
+                 "wildcard host replaced by this host's name)")
+      ->group("Slurm executor");
+  app.add_option(
+         "--slurm-worker-args", options.slurm_worker_args,
+         "more seep-worker arguments, separated by spaces (e.g. '--tls-ca /etc/seep/ca.pem')")
+      ->group("Slurm executor");
+  app.add_option("--slurm-output", options.slurm.output,
+                 "sbatch --output of the workers' jobs (default: <data-dir>/slurm/"
+                 "seep-worker-%j.out; on a cluster without a shared filesystem, a path that exists "
+                 "on the nodes)")
+      ->group("Slurm executor");
+  app.add_option("--slurm-signal-grace-s", options.slurm.signal_grace_s,
+                 "sbatch --signal=B:TERM@N: seconds before the time limit at which a worker is "
+                 "told to checkpoint and give its job back (also what --requeue preemption gives)")
+      ->check(CLI::Range(5, 86400))
+      ->capture_default_str()
+      ->group("Slurm executor");
+  app.add_option("--slurm-poll-s", options.slurm_poll_s,
+                 "seconds between two looks at squeue and the queue (a submit or cancel looks at "
+                 "once)")
+      ->check(CLI::Range(0.2, 3600.0))
+      ->capture_default_str()
+      ->group("Slurm executor");
   CLI11_PARSE(app, argc, argv);
+  if (options.executor != "slurm") {
+    for (const CLI::Option* option : app.get_options()) {
+      if (option->get_group() == "Slurm executor" && option->count() > 0) {
+        std::fprintf(stderr, "seepd: %s needs --executor slurm (the executor is %s)\n",
+                     option->get_name().c_str(), options.executor.c_str());
+        return 2;
+      }
+    }
+  }
   try {
     return Run(options);
   } catch (const std::exception& e) {

@@ -99,6 +99,11 @@ void JobToProto(const JobRecord& job, bool with_scene, v1::Job* out) {
     out->set_parent_step(job.parent_step);
   }
   for (const std::string& child : job.child_job_ids) out->add_child_job_ids(child);
+  if (job.placement) {
+    out->mutable_batch()->set_system("slurm");
+    out->mutable_batch()->set_job_id(job.placement->batch_job_id);
+    out->mutable_batch()->set_node(job.placement->node);
+  }
 }
 
 void JobEventToProto(const JobEventRecord& event, v1::JobHistoryEvent* out) {

@@ -46,6 +46,7 @@ JobRunner::JobRunner(JobLedger& ledger, JobStore* store, JobHub& hub, JobRunnerO
 JobRunner::~JobRunner() { Stop(); }
 
 void JobRunner::Start() {
+  idle_since_ = std::chrono::steady_clock::now();
   for (int i = 0; i < options_.workers; ++i) {
     workers_.emplace_back([this](const std::stop_token& stop) { WorkerLoop(stop); });
   }
@@ -196,21 +197,53 @@ void JobRunner::WorkerLoop(const std::stop_token& stop) {
                                         : core::CoreThreadsPerJob(options_.workers));
   while (!stop.stop_requested()) {
     std::uint64_t seen;
+    bool may_claim = true;
     {
       std::lock_guard lock(mutex_);
       seen = wake_count_;
+      // The claim is counted before it is made, so that workers claiming at once cannot pass
+      // max_jobs together.
+      if (options_.max_jobs > 0 && claims_ >= options_.max_jobs) {
+        may_claim = false;
+      } else {
+        ++claims_;
+      }
     }
-    auto claimed = ledger_.Claim(options_.lease_owner, options_.lease_duration);
-    if (!claimed.ok()) {
-      logger_->error("claiming a job failed: {}", claimed.status().ToString());
-    } else if (claimed->has_value()) {
-      RunJob(**claimed, stop);
-      continue;
+    if (may_claim) {
+      auto claimed = ledger_.Claim(options_.lease_owner, options_.lease_duration);
+      if (claimed.ok() && claimed->has_value()) {
+        RunJob(**claimed, stop);
+        std::lock_guard lock(mutex_);
+        idle_since_ = std::chrono::steady_clock::now();
+        continue;
+      }
+      if (!claimed.ok()) logger_->error("claiming a job failed: {}", claimed.status().ToString());
+      std::lock_guard lock(mutex_);
+      --claims_;
     }
     // Idle: sleep until woken, or poll now and then in case a wake-up was missed.
     std::unique_lock lock(mutex_);
+    if (WorkDoneLocked(std::chrono::steady_clock::now()) && !work_done_.exchange(true)) {
+      const bool all_claimed = options_.max_jobs > 0 && claims_ >= options_.max_jobs;
+      lock.unlock();
+      if (all_claimed) {
+        logger_->info("work done: {} job(s) claimed and ended (--max-jobs)", options_.max_jobs);
+      } else {
+        logger_->info(
+            "work done: nothing to claim for {} s and no job running (--exit-when-idle-s)",
+            std::chrono::duration<double>(options_.exit_when_idle).count());
+      }
+      if (options_.on_work_done) options_.on_work_done();
+      lock.lock();
+    }
     wake_.wait_for(lock, stop, std::chrono::seconds(1), [&] { return wake_count_ != seen; });
   }
+}
+
+bool JobRunner::WorkDoneLocked(std::chrono::steady_clock::time_point now) const {
+  if (!running_.empty()) return false;
+  if (options_.max_jobs > 0 && claims_ >= options_.max_jobs) return true;
+  return options_.exit_when_idle.count() > 0 && now - idle_since_ >= options_.exit_when_idle;
 }
 
 core::Status JobRunner::CatchAll(const std::function<core::Status()>& body) {

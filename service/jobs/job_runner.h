@@ -81,6 +81,13 @@ struct JobRunnerOptions {
   const TestCrashPoints* crash_points = nullptr;
   // Counts the steps the jobs take (optional, owned by the caller).
   ServiceMetrics* metrics = nullptr;
+  // A worker process that ends by itself (seep-worker started by a batch system): once it has
+  // claimed max_jobs jobs in all (0: no limit) and they ended, or once it found nothing to claim
+  // for exit_when_idle with no job running (0: never), on_work_done is called, once, from a
+  // worker thread; the caller then stops the runner.
+  int max_jobs = 0;
+  std::chrono::milliseconds exit_when_idle{0};
+  std::function<void()> on_work_done;
 };
 
 class JobRunner {
@@ -133,6 +140,9 @@ class JobRunner {
   };
 
   void WorkerLoop(const std::stop_token& stop);
+  // Whether this runner's work is done (max_jobs claimed and ended, or idle for exit_when_idle);
+  // mutex_ held.
+  bool WorkDoneLocked(std::chrono::steady_clock::time_point now) const;
   void HeartbeatLoop(const std::stop_token& stop);
   // Renews one lease; on a pending cancel or a lost lease, stops the job.
   void Renew(const std::string& id, Running& running);
@@ -183,6 +193,9 @@ class JobRunner {
   std::uint64_t wake_count_ = 0;
   std::atomic<int> injected_final_write_failures_{0};        // from test_fail_final_writes
   std::map<std::string, std::shared_ptr<Running>> running_;  // guarded by mutex_
+  int claims_ = 0;  // claimed, or being claimed, in all (for max_jobs); guarded by mutex_
+  std::chrono::steady_clock::time_point idle_since_;  // the last job's end; guarded by mutex_
+  std::atomic<bool> work_done_{false};                // on_work_done was called
   std::vector<std::jthread> workers_;
   std::jthread heartbeat_;
   std::jthread rescuer_;

@@ -26,6 +26,10 @@ class BearerAuth {
   // users can read is no secret.
   static core::Result<BearerAuth> FromFile(const std::string& path);
 
+  // The token itself, for the workers seepd starts (--executor slurm gives it in their
+  // environment).
+  const std::string& token() const { return token_; }
+
   // OK, or UNAUTHENTICATED with a message saying what is missing or wrong.
   grpc::Status Check(const grpc::ServerContext& ctx) const;
   // The same check on raw metadata (what Check reads from the context).

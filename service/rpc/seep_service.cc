@@ -141,6 +141,17 @@ grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* ctx, const v1::GetJobR
     SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
     SEEP_ASSIGN_OR_RETURN(const JobRecord job, LoadJob(req->id()));
     JobToProto(job, /*with_scene=*/true, resp->mutable_job());
+    if (job.placement) {
+      // The batch job's state as the executor last saw it; unknown when seepd did not submit it.
+      if (auto batch = store_.GetBatchJob(job.placement->batch_job_id); batch.ok()) {
+        resp->mutable_job()->mutable_batch()->set_state(
+            batch->ended_at_ms && batch->state.empty() ? "ENDED" : batch->state);
+        if (job.placement->node.empty())
+          resp->mutable_job()->mutable_batch()->set_node(batch->node);
+      } else if (batch.status().code() != core::StatusCode::kNotFound) {
+        return batch.status();
+      }
+    }
     return core::Status::Ok();
   });
 }

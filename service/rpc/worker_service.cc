@@ -76,12 +76,29 @@ grpc::Status WorkerServiceImpl::ClaimJob(Ctx* ctx, const v1::ClaimJobRequest* re
     if (request->worker().empty()) return core::InvalidArgument("worker: is required");
     SEEP_RETURN_IF_ERROR(CheckLeaseMs(request->lease_ms()));
     // Calibrations need the store's calibration records: seepd's own workers run them.
+    std::optional<WorkerPlacement> placement;
+    if (request->has_placement()) {
+      const v1::BatchPlacement& where = request->placement();
+      if (where.job_id().empty() || where.job_id().size() > 64) {
+        return core::InvalidArgument(
+            "placement.job_id: the batch system's job id is required with a placement (1 to 64 "
+            "characters)");
+      }
+      if (where.node().size() > 256) {
+        return core::InvalidArgument("placement.node: at most 256 characters");
+      }
+      placement = WorkerPlacement{where.job_id(), where.node()};
+    }
     SEEP_ASSIGN_OR_RETURN(std::optional<JobRecord> claimed,
                           store_.ClaimNextQueued(request->worker(), NowMs(), request->lease_ms(),
-                                                 JobKind::kSimulation));
+                                                 JobKind::kSimulation, placement));
     if (!claimed) return core::Status::Ok();
-    logger_->info("job {} claimed by remote worker {} (attempt {}, lease epoch {})", claimed->id,
-                  request->worker(), claimed->attempt, claimed->lease_epoch);
+    logger_->info(
+        "job {} claimed by remote worker {}{} (attempt {}, lease epoch {})", claimed->id,
+        request->worker(),
+        placement ? fmt::format(" in batch job {} on {}", placement->batch_job_id, placement->node)
+                  : "",
+        claimed->attempt, claimed->lease_epoch);
     hub_.RecordChanged(claimed->id);  // QUEUED -> RUNNING, for its followers
     hub_.Publish(claimed->id, claimed->progress);
     LeasedJobToProto(*claimed, response->mutable_job());

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,6 +49,13 @@ struct JobProgress {
   }
 };
 
+// Where the remote worker that claimed a job last runs, as it said in its claim: the batch
+// system's job that started it (a Slurm job id) and the node. None for seepd's own workers.
+struct WorkerPlacement {
+  std::string batch_job_id;
+  std::string node;
+};
+
 struct JobRecord {
   std::string id;
   std::string name;
@@ -89,6 +97,30 @@ struct JobRecord {
   std::uint64_t parent_step = 0;
   // The jobs forked from this one, oldest first (filled by Get and GetWithoutScene).
   std::vector<std::string> child_job_ids;
+  // Set when the latest claim was a remote worker's started by a batch system.
+  std::optional<WorkerPlacement> placement;
+};
+
+// A job of a batch system (a Slurm job) that seepd's executor submitted to start seep-worker.
+struct BatchJobRecord {
+  std::string id;     // the batch system's job id
+  int workers = 1;    // seep jobs its worker runs at a time
+  int max_jobs = 0;   // seep jobs its worker claims in all before it ends (0: until idle)
+  std::string state;  // as the batch system last reported it (PENDING, RUNNING, ...)
+  std::string node;   // where it runs ("" until known)
+  std::int64_t submitted_at_ms = 0;
+  std::optional<std::int64_t> ended_at_ms;  // set once it is gone from the batch system
+};
+
+// What the executor decides on (JobStore::BatchDemandNow).
+struct BatchDemand {
+  std::int64_t queued_simulations = 0;  // QUEUED simulation jobs: they wait for a worker
+  struct Use {
+    int running = 0;           // seep jobs RUNNING under a claim of its worker
+    int claimed = 0;           // seep jobs whose latest claim was its worker's, in any state
+    int cancel_requested = 0;  // of the running ones, those a user cancelled
+  };
+  std::map<std::string, Use> by_batch_job;  // live batch jobs only; absent: nothing claimed
 };
 
 // One checkpoint file of a job, as the store records it.

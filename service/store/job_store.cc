@@ -207,6 +207,24 @@ ALTER TABLE jobs ADD COLUMN parent_job_id TEXT;
 ALTER TABLE jobs ADD COLUMN parent_step INTEGER NOT NULL DEFAULT 0;
 CREATE INDEX jobs_by_parent ON jobs(parent_job_id) WHERE parent_job_id IS NOT NULL;
 )sql",
+    // v12: batch executors (job_store_batch.cc). Where the remote worker that claimed a job last
+    // runs (its batch job, e.g. a Slurm allocation, and node; NULL for seepd's own workers), and
+    // the batch jobs seepd submitted to start workers, with their state as last seen.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN batch_job_id TEXT;
+ALTER TABLE jobs ADD COLUMN batch_node TEXT;
+CREATE INDEX jobs_by_batch_job ON jobs(batch_job_id) WHERE batch_job_id IS NOT NULL;
+CREATE TABLE batch_jobs (
+  id TEXT PRIMARY KEY,
+  workers INTEGER NOT NULL,
+  max_jobs INTEGER NOT NULL,
+  state TEXT NOT NULL,
+  node TEXT NOT NULL DEFAULT '',
+  submitted_at_ms INTEGER NOT NULL,
+  ended_at_ms INTEGER
+) STRICT;
+CREATE INDEX batch_jobs_live ON batch_jobs(submitted_at_ms) WHERE ended_at_ms IS NULL;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -219,8 +237,8 @@ constexpr const char* kJobColumns =
     "rowid, id, request_id, name, state, build_id, created_at_ms, started_at_ms, "
     "finished_at_ms, step, time_s, fraction_done, error_code, error_message, wall_time_s, attempt, "
     "cancel_requested, lease_owner, lease_epoch, lease_expires_at_ms, kind, priority, "
-    "stage_index, stage_count, stage_name, parent_job_id, parent_step";
-constexpr int kSceneColumn = 27;  // after kJobColumns
+    "stage_index, stage_count, stage_name, parent_job_id, parent_step, batch_job_id, batch_node";
+constexpr int kSceneColumn = 29;  // after kJobColumns
 
 JobRecord ReadJobRow(const Stmt& s) {
   JobRecord job;
@@ -250,6 +268,9 @@ JobRecord ReadJobRow(const Stmt& s) {
   job.progress.stage_name = s.ColumnText(24);
   if (!s.ColumnIsNull(25)) job.parent_job_id = s.ColumnText(25);
   job.parent_step = static_cast<std::uint64_t>(s.ColumnInt(26));
+  if (!s.ColumnIsNull(27)) {
+    job.placement = WorkerPlacement{s.ColumnText(27), s.ColumnIsNull(28) ? "" : s.ColumnText(28)};
+  }
   return job;
 }
 
@@ -507,25 +528,30 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
   return page;
 }
 
-Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(const std::string& owner,
-                                                           std::int64_t now_ms,
-                                                           std::int64_t lease_ms,
-                                                           std::optional<JobKind> kind) {
+Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
+    const std::string& owner, std::int64_t now_ms, std::int64_t lease_ms,
+    std::optional<JobKind> kind, const std::optional<WorkerPlacement>& placement) {
   const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
       Stmt s,
       db_->Prepare("UPDATE jobs SET state = 'RUNNING', started_at_ms = ?, lease_owner = ?, "
-                   "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ? WHERE rowid = "
+                   "lease_epoch = lease_epoch + 1, lease_expires_at_ms = ?, batch_job_id = ?, "
+                   "batch_node = ? WHERE rowid = "
                    "(SELECT rowid FROM jobs WHERE state = 'QUEUED' AND (? IS NULL OR kind = ?) "
                    "ORDER BY priority DESC, rowid LIMIT 1) "
                    "RETURNING id"));
   s.Bind(1, now_ms).Bind(2, std::string_view(owner)).Bind(3, now_ms + lease_ms);
-  if (kind) {
-    s.Bind(4, std::string_view(JobKindName(*kind))).Bind(5, std::string_view(JobKindName(*kind)));
+  if (placement) {
+    s.Bind(4, std::string_view(placement->batch_job_id)).Bind(5, std::string_view(placement->node));
   } else {
     s.BindNull(4).BindNull(5);
+  }
+  if (kind) {
+    s.Bind(6, std::string_view(JobKindName(*kind))).Bind(7, std::string_view(JobKindName(*kind)));
+  } else {
+    s.BindNull(6).BindNull(7);
   }
   SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
   if (!row) return std::optional<JobRecord>();

@@ -77,7 +77,7 @@ struct CrashLoopFailure {
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 11;
+  static constexpr int kSchemaVersion = 12;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
@@ -105,10 +105,12 @@ class JobStore {
 
   // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
   // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it; with `kind` set,
-  // only a job of that kind (a remote worker runs simulations only).
-  Result<std::optional<JobRecord>> ClaimNextQueued(const std::string& owner, std::int64_t now_ms,
-                                                   std::int64_t lease_ms,
-                                                   std::optional<JobKind> kind = std::nullopt);
+  // only a job of that kind (a remote worker runs simulations only). `placement`: where the
+  // claiming remote worker runs (its batch job and node), recorded with the job (none: cleared).
+  Result<std::optional<JobRecord>> ClaimNextQueued(
+      const std::string& owner, std::int64_t now_ms, std::int64_t lease_ms,
+      std::optional<JobKind> kind = std::nullopt,
+      const std::optional<WorkerPlacement>& placement = std::nullopt);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
   // over (or whose job is no longer RUNNING) gets ABORTED and must stop the job.
   // Heartbeat extends the lease and returns whether a cancel was requested.
@@ -144,6 +146,20 @@ class JobStore {
   // naming the first QUEUED or RUNNING job, when it has one, and nothing is removed. Returns the
   // checkpoint records of all its jobs: the caller removes the files.
   Result<SweepDeletion> DeleteSweep(const std::string& id);
+  // Batch jobs (job_store_batch.cc): the jobs a batch executor (seepd --executor slurm)
+  // submitted to start remote workers, and what it needs to decide how many more to submit.
+  Status InsertBatchJob(const BatchJobRecord& batch_job);
+  // NOT_FOUND for an id never recorded.
+  Result<BatchJobRecord> GetBatchJob(const std::string& id);
+  // Those not ended, oldest first.
+  Result<std::vector<BatchJobRecord>> LiveBatchJobs();
+  // The state and node the batch system reports now; ended_at_ms set: it ended (is no longer
+  // live). Unknown ids are ignored.
+  Status UpdateBatchJob(const std::string& id, const std::string& state, const std::string& node,
+                        std::optional<std::int64_t> ended_at_ms);
+  // What the live batch jobs' workers hold, and the simulation jobs that wait for a worker.
+  Result<BatchDemand> BatchDemandNow();
+
   // Applies the policy as of now_ms, in one transaction (job_store_retention.cc); each job that
   // keeps its record but loses checkpoints gets a CHECKPOINTS_RETAINED event.
   Result<RetentionOutcome> ApplyRetention(const RetentionPolicy& policy, std::int64_t now_ms);

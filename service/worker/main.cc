@@ -5,15 +5,20 @@
 // epoch. It keeps nothing on disk: killed at any moment, it loses the work since the job's last
 // checkpoint, and the coordinator's rescuer queues the job again when its lease expires.
 // SIGINT/SIGTERM: running jobs stop at a step boundary, are checkpointed and given back.
+// Started by a batch system (seepd --executor slurm), it names its Slurm job and node in every
+// claim and ends by itself: after --max-jobs jobs, or when --exit-when-idle-s passes without work.
 #include <semaphore.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "connection.h"
@@ -42,7 +47,18 @@ struct Options {
   double timeout_s = 10.0;
   seep::service::RunnerFlags runner;  // workers, threads, lease, checkpoints, log level
   std::string name;                   // the lease owner's prefix; default: the host name
+  int max_jobs = 0;                   // 0: no limit
+  double exit_when_idle_s = 0.0;      // 0: never
 };
+
+// Where this worker runs when Slurm started it (its job id and node, from the environment Slurm
+// gives a job), said in every claim; none outside Slurm.
+std::optional<seep::service::WorkerPlacement> PlacementFromEnvironment() {
+  const char* job = std::getenv("SLURM_JOB_ID");
+  if (job == nullptr || *job == '\0') return std::nullopt;
+  const char* node = std::getenv("SLURMD_NODENAME");
+  return seep::service::WorkerPlacement{job, node == nullptr ? "" : node};
+}
 
 std::string HostName() {
   char host[256] = {};
@@ -82,10 +98,19 @@ int Run(Options& options) {
   seep::service::RemoteLedger ledger(
       seep::client::OpenSeepdChannel(connection),
       [&connection](grpc::ClientContext* ctx) { seep::client::AddToken(connection, ctx); },
-      std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_s * 1000)));
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_s * 1000)),
+      PlacementFromEnvironment());
   seep::service::JobRunnerOptions runner_options = seep::service::RunnerOptionsFrom(options.runner);
   runner_options.build_id = SEEP_BUILD_ID;
   runner_options.lease_owner = owner;
+  runner_options.max_jobs = options.max_jobs;
+  runner_options.exit_when_idle =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.exit_when_idle_s * 1000));
+  std::atomic<bool> work_done{false};
+  runner_options.on_work_done = [&work_done] {
+    work_done = true;
+    sem_post(&g_stop_signalled);
+  };
   seep::service::JobHub hub;  // nobody follows here: seepd's hub hears of progress through RPCs
   seep::service::JobRunner runner(ledger, /*store=*/nullptr, hub, runner_options, logger);
   logger->info(
@@ -98,9 +123,13 @@ int Run(Options& options) {
   runner.Start();
   while (sem_wait(&g_stop_signalled) != 0) {
   }  // EINTR: wait again
-  logger->info(
-      "stopping: running jobs stop at a step, are checkpointed and given back (a second signal "
-      "exits at once)");
+  if (work_done) {
+    logger->info("stopping: its work is done");
+  } else {
+    logger->info(
+        "stopping: running jobs stop at a step, are checkpointed and given back (a second signal "
+        "exits at once)");
+  }
   runner.Stop();
   logger->info("seep-worker stopped");
   return 0;
@@ -138,6 +167,17 @@ int main(int argc, char** argv) {
   app.add_option("--name", options.name,
                  "names this worker in leases and events (default: the host name); the pid and "
                  "a random suffix are added");
+  app.add_option("--max-jobs", options.max_jobs,
+                 "claim this many jobs in all, then exit once they ended (0: no limit; seepd's "
+                 "Slurm executor starts one worker per job with 1)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--exit-when-idle-s", options.exit_when_idle_s,
+                 "exit after finding no job to claim for this many seconds with none running (0: "
+                 "never; for workers a batch system starts, so that an allocation ends when the "
+                 "queue is empty)")
+      ->check(CLI::Range(0.0, 1e7))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return Run(options);

@@ -68,8 +68,12 @@ core::Status FromGrpcStatus(const char* rpc, const grpc::Status& status) {
 
 RemoteLedger::RemoteLedger(const std::shared_ptr<grpc::Channel>& channel,
                            std::function<void(grpc::ClientContext*)> prepare,
-                           std::chrono::milliseconds timeout)
-    : stub_(v1::WorkerService::NewStub(channel)), prepare_(std::move(prepare)), timeout_(timeout) {}
+                           std::chrono::milliseconds timeout,
+                           std::optional<WorkerPlacement> placement)
+    : stub_(v1::WorkerService::NewStub(channel)),
+      prepare_(std::move(prepare)),
+      timeout_(timeout),
+      placement_(std::move(placement)) {}
 
 std::unique_ptr<grpc::ClientContext> RemoteLedger::Context(
     std::chrono::milliseconds timeout) const {
@@ -84,6 +88,11 @@ core::Result<std::optional<JobRecord>> RemoteLedger::Claim(const std::string& ow
   v1::ClaimJobRequest request;
   request.set_worker(owner);
   request.set_lease_ms(LeaseMs(lease));
+  if (placement_) {
+    request.mutable_placement()->set_system("slurm");
+    request.mutable_placement()->set_job_id(placement_->batch_job_id);
+    request.mutable_placement()->set_node(placement_->node);
+  }
   v1::ClaimJobResponse response;
   SEEP_RETURN_IF_ERROR(
       FromGrpcStatus("ClaimJob", stub_->ClaimJob(Context(timeout_).get(), request, &response)));

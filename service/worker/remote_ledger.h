@@ -9,6 +9,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "jobs/job_ledger.h"
@@ -19,10 +20,11 @@ namespace seep::service {
 class RemoteLedger final : public JobLedger {
  public:
   // `prepare` sets what every call carries (the bearer token); `timeout` bounds each unary call
-  // (a checkpoint transfer gets ten times as long).
+  // (a checkpoint transfer gets ten times as long); `placement`: the batch job and node this
+  // worker runs in, said in every claim (none: outside a batch system).
   RemoteLedger(const std::shared_ptr<grpc::Channel>& channel,
-               std::function<void(grpc::ClientContext*)> prepare,
-               std::chrono::milliseconds timeout);
+               std::function<void(grpc::ClientContext*)> prepare, std::chrono::milliseconds timeout,
+               std::optional<WorkerPlacement> placement = std::nullopt);
 
   core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
                                                std::chrono::milliseconds lease) override;
@@ -53,6 +55,7 @@ class RemoteLedger final : public JobLedger {
   std::unique_ptr<v1::WorkerService::Stub> stub_;
   std::function<void(grpc::ClientContext*)> prepare_;
   std::chrono::milliseconds timeout_;
+  std::optional<WorkerPlacement> placement_;
 };
 
 // A gRPC status as the runner reads it: the codes core knows keep their meaning (ABORTED: the

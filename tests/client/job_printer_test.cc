@@ -129,6 +129,23 @@ TEST(JobSummary, ShowsParentAndChildren) {
   EXPECT_EQ(plain.find("children"), std::string::npos) << plain;
 }
 
+// A job whose worker a Slurm job runs names that job, its node and its state.
+TEST(JobSummary, ShowsTheSlurmJobOfItsWorker) {
+  v1::Job job = RunningJob(0.5);
+  job.mutable_batch()->set_system("slurm");
+  job.mutable_batch()->set_job_id("4711");
+  job.mutable_batch()->set_node("node17");
+  job.mutable_batch()->set_state("RUNNING");
+  const std::string summary = FormatJob(job);
+  EXPECT_NE(summary.find("\nslurm     job 4711 on node17, RUNNING\n"), std::string::npos)
+      << summary;
+  // A worker started by hand in a Slurm job: seepd knows no state of it.
+  job.mutable_batch()->clear_state();
+  job.mutable_batch()->clear_node();
+  EXPECT_NE(FormatJob(job).find("\nslurm     job 4711\n"), std::string::npos) << FormatJob(job);
+  EXPECT_EQ(FormatJob(RunningJob(0.5)).find("slurm"), std::string::npos);
+}
+
 TEST(Duration, SecondsMinutesHours) {
   EXPECT_EQ(FormatDuration(0.2), "1 s");  // never "0 s" for work that is still left
   EXPECT_EQ(FormatDuration(42.4), "42 s");

@@ -125,6 +125,39 @@ class GrpcSeepdTest : public ::testing::Test {
     return response.job();
   }
 
+  // A sweep submitted in one request (30 s deadline); its status with the jobs by position.
+  v1::SweepStatus SubmitSweep(const v1::Sweep& sweep) {
+    grpc::ClientContext ctx;
+    Prepare(ctx);
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
+    v1::SubmitSweepRequest request;
+    *request.mutable_sweep() = sweep;
+    v1::SubmitSweepResponse response;
+    const grpc::Status status = stub_->SubmitSweep(&ctx, request, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    return response.sweep();
+  }
+
+  // The ids of a sweep's jobs, by position.
+  static std::vector<std::string> JobIds(const v1::SweepStatus& sweep) {
+    std::vector<std::string> ids;
+    for (const v1::SweepJob& member : sweep.jobs()) ids.push_back(member.job().id());
+    return ids;
+  }
+
+  // The job's history, oldest first (up to 1000 events).
+  std::vector<v1::JobHistoryEvent> Events(const std::string& id) {
+    grpc::ClientContext ctx;
+    Prepare(ctx);
+    v1::ListJobEventsRequest request;
+    request.set_id(id);
+    request.set_page_size(1000);
+    v1::ListJobEventsResponse response;
+    const grpc::Status status = stub_->ListJobEvents(&ctx, request, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    return {response.events().begin(), response.events().end()};
+  }
+
   // Polls the job until `done` holds for it or the timeout passes; returns it as last seen.
   v1::Job WaitFor(const std::string& id, const std::function<bool(const v1::Job&)>& done,
                   std::chrono::seconds timeout = std::chrono::seconds(240)) {

@@ -82,35 +82,6 @@ class RemoteWorkers : public GrpcSeepdTest {
     return ChildProcess(argv, log);
   }
 
-  v1::SubmitSweepResponse SubmitSweep(const v1::Sweep& sweep) {
-    grpc::ClientContext ctx;
-    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-    v1::SubmitSweepRequest request;
-    *request.mutable_sweep() = sweep;
-    v1::SubmitSweepResponse response;
-    const grpc::Status status = stub_->SubmitSweep(&ctx, request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return response;
-  }
-
-  static std::vector<std::string> JobIds(const v1::SubmitSweepResponse& submitted) {
-    std::vector<std::string> ids;
-    for (const v1::SweepJob& member : submitted.sweep().jobs()) ids.push_back(member.job().id());
-    return ids;
-  }
-
-  std::vector<v1::JobHistoryEvent> Events(const std::string& id) {
-    grpc::ClientContext ctx;
-    Prepare(ctx);
-    v1::ListJobEventsRequest request;
-    request.set_id(id);
-    request.set_page_size(1000);
-    v1::ListJobEventsResponse response;
-    const grpc::Status status = stub_->ListJobEvents(&ctx, request, &response);
-    EXPECT_TRUE(status.ok()) << status.error_message();
-    return {response.events().begin(), response.events().end()};
-  }
-
   // Waits until the worker process `worker`, named `name`, runs a job that it has checkpointed
   // at least once (a CHECKPOINT event after its claim); false on timeout.
   bool WaitUntilRunningPastACheckpoint(const std::vector<std::string>& ids, const std::string& name,

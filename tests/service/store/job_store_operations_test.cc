@@ -12,7 +12,10 @@
 namespace seep::service {
 namespace {
 
-// What migrations v11 and v10 added, taken away again (before a PRAGMA user_version).
+// What migrations v12, v11 and v10 added, taken away again (before a PRAGMA user_version).
+constexpr const char* kWithoutV12 =
+    "DROP TABLE batch_jobs; DROP INDEX jobs_by_batch_job; ALTER TABLE jobs DROP COLUMN "
+    "batch_job_id; ALTER TABLE jobs DROP COLUMN batch_node; ";
 constexpr const char* kWithoutV11 =
     "DROP INDEX jobs_by_parent; ALTER TABLE jobs DROP COLUMN parent_job_id; "
     "ALTER TABLE jobs DROP COLUMN parent_step; ";
@@ -122,7 +125,7 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
           "INSERT INTO checkpoints VALUES ('j-1', 7, 0, "
           "'seep-data/checkpoints/j-1/ckpt-000000000007.bin', 1, 1, 1);"
           "INSERT INTO checkpoints VALUES ('j-2', 9, 0, '/somewhere/else.bin', 1, 1, 1);") +
-      kWithoutV11 + kWithoutV10 +
+      kWithoutV12 + kWithoutV11 + kWithoutV10 +
       "DROP TABLE sweep_jobs; DROP TABLE sweeps; DROP TABLE job_labels; DROP INDEX "
       "jobs_by_finished; PRAGMA user_version = 6;"));
   EXPECT_EQ(RawText("SELECT path FROM checkpoints WHERE step = 5"),
@@ -140,8 +143,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   const std::int64_t epoch = ClaimWithCheckpoints("j-1", {});
   ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, JobProgress::At(4, 0.5, 0.25, 0)).ok());
-  ASSERT_NO_FATAL_FAILURE(
-      ReopenAfter(std::string(kWithoutV11) + kWithoutV10 + "PRAGMA user_version = 9;"));
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV12) + kWithoutV11 + kWithoutV10 +
+                                      "PRAGMA user_version = 9;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_EQ(old->progress.step, 4u);
@@ -163,7 +166,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
 // can be stored after the migration.
 TEST_F(StoreOperations, MigrationElevenAddsTheParentColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
-  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV11) + "PRAGMA user_version = 10;"));
+  ASSERT_NO_FATAL_FAILURE(
+      ReopenAfter(std::string(kWithoutV12) + kWithoutV11 + "PRAGMA user_version = 10;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_FALSE(old->parent_job_id.has_value());
@@ -178,6 +182,29 @@ TEST_F(StoreOperations, MigrationElevenAddsTheParentColumns) {
   EXPECT_EQ(store_->Get("j-1")->child_job_ids, std::vector<std::string>{"j-2"});
   EXPECT_EQ(RawText("SELECT parent_job_id || ' ' || parent_step FROM jobs WHERE id = 'j-2'"),
             "j-1 40");
+}
+
+// A database from before v12 has no batch columns or table: its running job reads back without
+// a placement, and after the migration a claim records one and a batch job is kept.
+TEST_F(StoreOperations, MigrationTwelveAddsTheBatchJobs) {
+  ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
+  ASSERT_TRUE(store_->Insert(NewJob("j-2")).ok());
+  ClaimWithCheckpoints("j-1", {});
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV12) + "PRAGMA user_version = 11;"));
+  auto old = store_->Get("j-1");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  EXPECT_EQ(old->state, JobState::kRunning);
+  EXPECT_FALSE(old->placement.has_value());
+  auto claimed =
+      store_->ClaimNextQueued("w", 100, 1000, JobKind::kSimulation, WorkerPlacement{"31", "n1"});
+  ASSERT_TRUE(claimed.ok() && claimed->has_value());
+  EXPECT_EQ(RawText("SELECT batch_job_id || ' ' || batch_node FROM jobs WHERE id = 'j-2'"),
+            "31 n1");
+  BatchJobRecord batch;
+  batch.id = "31";
+  batch.state = "RUNNING";
+  ASSERT_TRUE(store_->InsertBatchJob(batch).ok());
+  EXPECT_EQ(store_->LiveBatchJobs()->size(), 1u);
 }
 
 // A failing statement: the Status names the operation and SQLite's generic reason, never the SQL
