@@ -129,6 +129,19 @@ core::Status SlurmExecutor::Start() {
   SEEP_RETURN_IF_ERROR(CreateDirectoriesDurably(slurm_dir_));
   SEEP_RETURN_IF_ERROR(WriteFileDurably(script_path_, ScriptText()));
   ::chmod(script_path_.c_str(), 0700);
+  // What every batch job will be submitted with, checked by Slurm now (a partition that does not
+  // exist, a time over its limit, a bad --slurm-extra): refused at start, not on every round.
+  auto tried = RunCommand(SbatchArgv(/*test_only=*/true), {}, options_.command_timeout);
+  if (!tried.ok() || tried->exit_code != 0) {
+    const std::string why = tried.ok() ? FirstLine(tried->err.empty() ? tried->out : tried->err)
+                                       : tried.status().message();
+    // A controller that is down now may be up at the next round: that is no reason not to serve.
+    if (why.find("contact slurm controller") == std::string::npos) {
+      return core::FailedPrecondition(fmt::format(
+          "--executor slurm: Slurm refuses the workers' batch jobs (sbatch --test-only): {}", why));
+    }
+    logger_->warn("slurm executor: {}; submitting when it answers", why);
+  }
   logger_->info(
       "slurm executor: {} (partition {}, time {}), workers dial {}, at most {} batch jobs, "
       "script {}",
@@ -202,10 +215,10 @@ bool SlurmExecutor::RefreshStates() {
   return true;
 }
 
-core::Result<std::string> SlurmExecutor::Submit() {
+std::vector<std::string> SlurmExecutor::SbatchArgv(bool test_only) const {
   const int cpus = plan_options_.workers_per_job * std::max(1, options_.runner.threads_per_job);
   std::vector<std::string> argv = {"sbatch",
-                                   "--parsable",
+                                   test_only ? "--test-only" : "--parsable",
                                    "--job-name=seep-worker",
                                    "--requeue",
                                    fmt::format("--signal=B:TERM@{}", options_.signal_grace_s),
@@ -217,6 +230,11 @@ core::Result<std::string> SlurmExecutor::Submit() {
   if (!options_.time_limit.empty()) argv.push_back("--time=" + options_.time_limit);
   argv.insert(argv.end(), options_.extra.begin(), options_.extra.end());
   argv.push_back(script_path_.string());
+  return argv;
+}
+
+core::Result<std::string> SlurmExecutor::Submit() {
+  const std::vector<std::string> argv = SbatchArgv(/*test_only=*/false);
   std::map<std::string, std::string> env;
   if (!options_.token.empty()) env["SEEP_TOKEN"] = options_.token;  // exported to the job
   SEEP_ASSIGN_OR_RETURN(const CommandOutput out, RunCommand(argv, env, options_.command_timeout));

@@ -71,6 +71,8 @@ class SlurmExecutor {
   void ReconcileOnce();
   // Step 1: the live batch jobs' states from squeue, stored; false when squeue did not answer.
   bool RefreshStates();
+  // sbatch's arguments for one worker's batch job (with --test-only: checked, not submitted).
+  std::vector<std::string> SbatchArgv(bool test_only) const;
   core::Result<std::string> Submit();
   void Cancel(const std::string& batch_job_id, const char* why);
   std::string ScriptText() const;

@@ -95,7 +95,7 @@ export SLURM_CONF="$dir/slurm.conf"
 sleep 1
 "${sudo_cmd[@]}" env SLURM_CONF="$SLURM_CONF" /usr/sbin/slurmd || skip "slurmd did not start (see $dir/log/slurmd.log)"
 for _ in $(seq 60); do
-  if sinfo --noheader --format=%t 2>/dev/null | grep -qE '^(idle|mix|alloc)'; then
+  if sinfo --noheader --format=%t 2>/dev/null | grep -qxE '(idle|mix|alloc)'; then
     echo "slurm_cluster: one node ($host, $cpus CPUs) up; SLURM_CONF=$SLURM_CONF"
     exit 0
   fi

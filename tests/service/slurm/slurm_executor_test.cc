@@ -345,6 +345,20 @@ TEST_F(SlurmExecutor, CancellingASweepScancelsItsWorkers) {
       << "seepd scancelled fewer Slurm jobs than were pending";
 }
 
+// What Slurm would refuse for every batch job (here a partition it does not have) stops seepd at
+// its start, with sbatch's reason, instead of failing on every round.
+TEST_F(SlurmExecutor, ABatchJobSlurmRefusesStopsSeepdAtItsStart) {
+  const CommandResult refused = RunCommand(
+      {SEEPD_PATH, "--listen", "127.0.0.1:0", "--data-dir", (dir_ / "refused").string(),
+       "--workers", "0", "--executor", "slurm", "--slurm-partition", "no-such-partition"});
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("Slurm refuses the workers' batch jobs (sbatch --test-only): "
+                                "sbatch: error: "),
+            std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("partition"), std::string::npos) << refused.output;
+}
+
 TEST_F(SlurmExecutor, PackedOneAllocationDrainsASweepAndEnds) {
   const v1::Sweep sweep = EightJobSweep(3e-2);
   const std::vector<std::string> expected = LocalHashes(sweep);
