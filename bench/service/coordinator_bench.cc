@@ -9,7 +9,7 @@
 //      >= 90 % of the in-process jobs per second;
 // each with its figures, limit and PASS/MISS. Exit status 0 when both parts pass.
 //
-//   seep_coordinator_bench [--part all|load|throughput] [--load-seconds 60] [--workers 100]
+//   seep_coordinator_bench [--part all|load|throughput] [--load-seconds 30] [--workers 100]
 //                          [--queued 10000] [--sweep-jobs 1000] [--lanes 2]
 //                          [--sweep-columns 40] [--sweep-rows 40] [--sweep-end-time-s 3.1484e-3]
 //                          [--dir PATH] [--keep]
@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--load-seconds", options.load_seconds, "1. the measured window, in seconds")
       ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
+  app.add_option("--floor-seconds", options.floor_seconds,
+                 "1. then seconds of trivial calls at the same rate (gRPC's own cost; 0: none)")
+      ->check(CLI::Range(0.0, 600.0))
       ->capture_default_str();
   app.add_option("--sweep-jobs", options.sweep_jobs, "2. jobs of the sweep")
       ->check(CLI::Range(1, 10'000))

@@ -25,10 +25,11 @@ struct CoordinatorOptions {
   // 1. Coordinator load.
   int queued_jobs = 10'000;
   int simulated_workers = 100;
-  double heartbeat_s = 1.0;    // between two heartbeats of a simulated worker's job
-  int heartbeats_per_job = 5;  // then it finishes the job and claims the next
-  double warmup_s = 5.0;       // before the measured window: every worker holds a job
-  double load_seconds = 60.0;  // the measured window
+  double heartbeat_s = 1.0;     // between two heartbeats of a simulated worker's job
+  int heartbeats_per_job = 5;   // then it finishes the job and claims the next
+  double warmup_s = 5.0;        // before the measured window: every worker holds a job
+  double load_seconds = 30.0;   // the measured window
+  double floor_seconds = 10.0;  // then the same call rate of trivial calls (0: skipped)
   double cpu_limit_percent = 5.0;
   double lease_p99_limit_ms = 20.0;
 
@@ -70,6 +71,10 @@ class Seepd {
 v1::Sweep InletPressureSweep(const v1::Scene& base, int jobs);
 // SubmitSweep; nullopt (after printing why) when the call fails.
 std::optional<v1::SweepStatus> SubmitSweep(v1::SeepService::Stub& stub, const v1::Sweep& sweep);
+
+// seepd's CPU (% of one core) while `clients` threads call grpc.health.v1.Health/Check at
+// calls_per_second in all for `seconds`: the cost of gRPC alone at that rate (call_floor.cc).
+double TrivialCallCpuPercent(Seepd& seepd, int clients, double calls_per_second, double seconds);
 
 bool CoordinatorLoad(const CoordinatorOptions& options);
 bool SweepThroughput(const CoordinatorOptions& options);

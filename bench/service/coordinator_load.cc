@@ -242,6 +242,16 @@ bool CoordinatorLoad(const CoordinatorOptions& options) {
   const double wall = Seconds(window.start, Clock::now());
   const double rss = seepd.process().RssMib();
   workers.clear();  // joins
+  std::size_t calls = 0;
+  for (const char* call : {"ClaimJob", "AddJobEvent", "Heartbeat", "ReportProgress",
+                           "StoreResultSeries", "FinishJob"}) {
+    calls += book.Count(call);
+  }
+  const double call_rate = static_cast<double>(calls) / wall;
+  const double floor_percent = options.floor_seconds > 0.0
+                                   ? TrivialCallCpuPercent(seepd, options.simulated_workers,
+                                                           call_rate, options.floor_seconds)
+                                   : 0.0;
   const v1::SweepCounts counts = Counts(seepd, sweep->id());
   const bool clean = seepd.Stop();
 
@@ -263,6 +273,14 @@ bool CoordinatorLoad(const CoordinatorOptions& options) {
       "(limit: <= %.0f %%)\n",
       cpu_percent, wall, cpu_end - cpu_start, 100.0 * busiest, Verdict(cpu_met),
       options.cpu_limit_percent);
+  if (options.floor_seconds > 0.0) {
+    std::printf(
+        "gRPC floor %.2f %% of one core for the same %.0f calls a second as grpc.health.v1 "
+        "Check from %d channels (%.0f s after the window): %.0f us of seepd CPU a call for gRPC "
+        "alone, %.0f us for the worker calls\n",
+        floor_percent, call_rate, options.simulated_workers, options.floor_seconds,
+        1e4 * floor_percent / call_rate, 1e4 * cpu_percent / call_rate);
+  }
   std::printf(
       "lease p99  ClaimJob p99 %.2f ms (p50 %.2f, max %.2f over %zu claims)   %s (limit: <= "
       "%.0f ms)\n",
