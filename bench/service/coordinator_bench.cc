@@ -24,13 +24,6 @@
 #include "machine_figures.h"
 #include "service_bench.h"
 
-#ifndef SEEP_BUILD_ID
-#define SEEP_BUILD_ID "unknown"
-#endif
-#ifndef SEEP_BUILD_TYPE
-#define SEEP_BUILD_TYPE "unknown"
-#endif
-
 int main(int argc, char** argv) {
   seep::bench::CoordinatorOptions options;
   options.dir = std::filesystem::temp_directory_path() /
