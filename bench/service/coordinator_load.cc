@@ -3,9 +3,11 @@
 // jobs (one sweep, submitted before anything is measured); `simulated_workers` threads, each with
 // its own gRPC channel, speak the real seep.v1.WorkerService as seep-worker's runner does for a
 // job, without the physics: ClaimJob, AddJobEvent CLAIMED, then a Heartbeat every heartbeat_s
-// (with a ReportProgress every other one), and after heartbeats_per_job of them
-// StoreResultSeries and FinishJob SUCCEEDED, then the next claim. Their starts are spread over
-// one heartbeat interval, as independent workers' would be. Over the measured window (after a
+// (with a ReportProgress every other one), and after a number of them drawn per job around
+// heartbeats_per_job (from half of it to one and a half times it, so that the workers' claims do
+// not fall in step) StoreResultSeries and FinishJob SUCCEEDED, then the next claim. Their starts
+// are spread over one heartbeat interval, as independent workers' would be; a worker whose job
+// would outlast the window stops there (it claims nothing more). Over the measured window (after a
 // warm-up in which every worker takes its first job) seepd's CPU time is read from
 // /proc/<pid>/stat, and every call's latency is recorded from the client side.
 // Limits (issue 18): seepd CPU <= 5 % of one core, ClaimJob (the lease) p99 <= 20 ms, no failed
@@ -16,6 +18,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <random>
 #include <thread>
 #include <vector>
 
@@ -58,7 +61,10 @@ class SimulatedWorker {
         stub_(v1::WorkerService::NewStub(seepd.Channel(index))),
         options_(options),
         window_(window),
-        book_(book) {}
+        book_(book),
+        random_(static_cast<std::uint32_t>(index)),
+        lengths_(std::max(1, options.heartbeats_per_job / 2),
+                 std::max(1, options.heartbeats_per_job + options.heartbeats_per_job / 2)) {}
 
   // Claims and runs jobs until the window ends; returns how many it finished inside it.
   int Run(Clock::time_point first_claim) {
@@ -76,7 +82,8 @@ class SimulatedWorker {
         std::this_thread::sleep_for(Heartbeat());  // as an idle runner polls
         continue;
       }
-      if (RunJob(claimed.job()) && window_.Holds(Clock::now())) ++finished;
+      if (!RunJob(claimed.job())) break;  // the window ends, or a call failed (counted)
+      if (window_.Holds(Clock::now())) ++finished;
     }
     return finished;
   }
@@ -116,7 +123,7 @@ class SimulatedWorker {
       return stub_->AddJobEvent(&ctx, request, &response);
     });
     if (!status.ok()) return false;
-    const int heartbeats = options_.heartbeats_per_job;
+    const int heartbeats = lengths_(random_);
     auto next = Clock::now();
     for (int h = 1; h <= heartbeats; ++h) {
       next += Heartbeat();
@@ -173,6 +180,8 @@ class SimulatedWorker {
   const CoordinatorOptions& options_;
   Window window_;
   CallBook& book_;
+  std::mt19937 random_;  // seeded by the worker's index: every run draws the same lengths
+  std::uniform_int_distribution<int> lengths_;  // heartbeats of a job
 };
 
 // The sweep's jobs by state, as seepd counts them.
@@ -192,7 +201,8 @@ v1::SweepCounts Counts(const Seepd& seepd, const std::string& sweep_id) {
 bool CoordinatorLoad(const CoordinatorOptions& options) {
   std::printf(
       "\n== 1. coordinator load: seepd --workers 0 with %d queued jobs, %d simulated workers "
-      "heartbeating every %.1f s (%d heartbeats a job), %.0f s measured after %.0f s of warm-up\n",
+      "heartbeating every %.1f s (%d heartbeats a job on average), %.0f s measured after %.0f s of "
+      "warm-up\n",
       options.queued_jobs, options.simulated_workers, options.heartbeat_s,
       options.heartbeats_per_job, options.load_seconds, options.warmup_s);
   Seepd seepd(options, "load", {"--log-level", "warn"});
