@@ -98,6 +98,9 @@ struct ServiceRun {
   double seconds = 0.0;  // worker launch to the last finished_at
   std::vector<v1::SweepJob> jobs;
   bool clean = false;  // seepd and every worker exited 0 on SIGTERM
+  // CPU seconds over the drain: where a lane's time went besides the physics.
+  double seepd_cpu_s = 0.0;
+  double workers_cpu_s = 0.0;
 };
 
 // True once no job of the sweep's seepd is QUEUED or RUNNING (a cheap query, asked every 100 ms:
@@ -126,6 +129,7 @@ std::optional<ServiceRun> RunOnWorkers(const CoordinatorOptions& options, const 
 
   const std::int64_t launch_ms = TimeUtil::TimestampToMilliseconds(TimeUtil::GetCurrentTime());
   const auto launch = Clock::now();
+  const double seepd_cpu_start = seepd.process().CpuSeconds();
   std::vector<ChildProcess> workers;
   for (int w = 0; w < options.lanes; ++w) {
     workers.emplace_back(
@@ -142,6 +146,8 @@ std::optional<ServiceRun> RunOnWorkers(const CoordinatorOptions& options, const 
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+  run.seepd_cpu_s = seepd.process().CpuSeconds() - seepd_cpu_start;
+  for (const ChildProcess& worker : workers) run.workers_cpu_s += worker.CpuSeconds();
   run.clean = true;
   for (ChildProcess& worker : workers) run.clean = ExitedCleanly(worker.Stop(SIGTERM)) && run.clean;
 
@@ -209,7 +215,11 @@ bool SweepThroughput(const CoordinatorOptions& options) {
       "service    %.2f s, %.1f jobs/s; a job takes %.2f ms of a lane: %.2f ms claimed (claim to "
       "outcome stored) + %.2f ms between claims\n",
       service->seconds, service_rate, lane_ms, 1e3 * claimed_s / n, lane_ms - 1e3 * claimed_s / n);
-  std::printf("overhead   %.2f ms a job over its in-process run\n", lane_ms - local.mean_job_ms);
+  std::printf(
+      "overhead   %.2f ms a job over its in-process run; CPU a job: seepd %.2f ms, the "
+      "seep-worker processes %.2f ms (the in-process run: %.2f ms of its lane)\n",
+      lane_ms - local.mean_job_ms, 1e3 * service->seepd_cpu_s / n, 1e3 * service->workers_cpu_s / n,
+      local.mean_job_ms);
   const int mismatches = Mismatches(*service, local);
   std::printf(
       "results    %d of %d jobs SUCCEEDED with their in-process metrics; seepd and "
