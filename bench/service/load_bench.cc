@@ -6,11 +6,8 @@
 // above the first half's peak: memory that grows with the calls made would show there).
 //
 //   seep_load_bench [--clients 50] [--seconds 60] [--rss-limit-mib 512] [--seepd PATH]
-#include <fcntl.h>
 #include <grpcpp/grpcpp.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -19,17 +16,14 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <map>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "call_book.h"
+#include "child_process.h"
 #include "seep/v1/job_service.grpc.pb.h"
 #include "service_bench.h"
-
-extern char** environ;
 
 namespace seep::bench {
 namespace {
@@ -41,90 +35,11 @@ struct LoadOptions {
   std::string seepd = SEEPD_PATH;
 };
 
-// What every client thread adds to, per call kind.
-class CallBook {
- public:
-  void Add(const std::string& call, double millis, const grpc::Status& status) {
-    std::lock_guard lock(mutex_);
-    latencies_[call].push_back(millis);
-    if (!status.ok()) {
-      ++errors_[call];
-      if (first_errors_.size() < 5) {
-        first_errors_.push_back(call + ": " + std::to_string(status.error_code()) + " " +
-                                status.error_message());
-      }
-    }
-  }
-  int errors() const {
-    int total = 0;
-    for (const auto& [call, n] : errors_) total += n;
-    return total;
-  }
-  void Print() const {
-    std::printf("%-10s %9s %7s %10s %10s %10s\n", "call", "count", "errors", "p50_ms", "p99_ms",
-                "max_ms");
-    for (const auto& [call, samples] : latencies_) {
-      const auto e = errors_.find(call);
-      std::printf("%-10s %9zu %7d %10.2f %10.2f %10.2f\n", call.c_str(), samples.size(),
-                  e == errors_.end() ? 0 : e->second, Median(samples), Percentile(samples, 0.99),
-                  *std::max_element(samples.begin(), samples.end()));
-    }
-    for (const auto& line : first_errors_) std::printf("error: %s\n", line.c_str());
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::map<std::string, std::vector<double>> latencies_;
-  std::map<std::string, int> errors_;
-  std::vector<std::string> first_errors_;
-};
-
-// Resident set size of a process in MiB, from /proc/<pid>/status; 0 when unreadable.
-double RssMib(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0.0;
-}
-
-pid_t StartSeepd(const LoadOptions& options, const std::filesystem::path& dir) {
-  const std::string data = (dir / "data").string();
-  const std::string port_file = (dir / "port").string();
-  const std::string log = (dir / "seepd.out").string();
-  std::vector<std::string> args = {options.seepd, "--listen",    "127.0.0.1:0", "--data-dir",
-                                   data,          "--port-file", port_file,     "--workers",
-                                   "2",           "--log-level", "warn"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = -1;
-  const int failed = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  return failed == 0 ? pid : -1;
-}
-
-int WaitForPort(const std::filesystem::path& file) {
-  for (int i = 0; i < 600; ++i) {
-    std::ifstream in(file);
-    int port = 0;
-    if (in >> port && port > 0) return port;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return -1;
-}
-
-grpc::Status Timed(CallBook& book, const std::string& call,
-                   const std::function<grpc::Status()>& fn) {
-  const auto start = Clock::now();
-  const grpc::Status status = fn();
-  book.Add(call, Millis(start, Clock::now()), status);
-  return status;
+ChildProcess StartSeepd(const LoadOptions& options, const std::filesystem::path& dir) {
+  return ChildProcess(
+      {options.seepd, "--listen", "127.0.0.1:0", "--data-dir", (dir / "data").string(),
+       "--port-file", (dir / "port").string(), "--workers", "2", "--log-level", "warn"},
+      dir / "seepd.out");
 }
 
 void SetDeadline(grpc::ClientContext& ctx) {
@@ -192,19 +107,18 @@ int Run(const LoadOptions& options) {
       std::filesystem::temp_directory_path() / ("seep-load-bench-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  const pid_t seepd = StartSeepd(options, dir);
-  const int port = seepd > 0 ? WaitForPort(dir / "port") : -1;
+  ChildProcess seepd = StartSeepd(options, dir);
+  const int port = seepd.started() ? WaitForPortFile(dir / "port") : -1;
   if (port <= 0) {
     std::fprintf(stderr, "seep_load_bench: seepd (%s) did not start; see %s\n",
                  options.seepd.c_str(), (dir / "seepd.out").c_str());
-    if (seepd > 0) ::kill(seepd, SIGKILL);
     return 2;
   }
   std::printf(
       "seep_load_bench: %d clients x %.0f s of submit/list/watch/get against seepd pid %d "
       "on 127.0.0.1:%d\n",
-      options.clients, options.seconds, seepd, port);
-  const double rss_start = RssMib(seepd);
+      options.clients, options.seconds, seepd.pid(), port);
+  const double rss_start = seepd.RssMib();
   CallBook book;
   std::atomic<std::uint64_t> jobs_done{0};
   const auto start = Clock::now();
@@ -220,15 +134,12 @@ int Run(const LoadOptions& options) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     double& peak =
         Seconds(start, Clock::now()) < options.seconds / 2 ? first_half_peak : second_half_peak;
-    peak = std::max(peak, RssMib(seepd));
+    peak = std::max(peak, seepd.RssMib());
   }
   for (auto& t : clients) t.join();
   const double elapsed = Seconds(start, Clock::now());
-  const double rss_end = RssMib(seepd);
-  ::kill(seepd, SIGTERM);
-  int status = 0;
-  ::waitpid(seepd, &status, 0);
-  const bool clean_exit = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  const double rss_end = seepd.RssMib();
+  const bool clean_exit = ExitedCleanly(seepd.Stop(SIGTERM));
 
   book.Print();
   const double peak = std::max(first_half_peak, second_half_peak);

@@ -39,6 +39,8 @@ std::shared_ptr<spdlog::logger> QuietLogger(const std::string& name);
 // disks, about side^2 domains and 2 side^2 pipes. end_time_s is far beyond what a bench runs, so
 // the run never finishes on its own.
 v1::Scene TransientLatticeScene(std::uint32_t side);
+// The same on a columns x rows lattice that ends at end_time_s of simulated time.
+v1::Scene TransientLatticeScene(std::uint32_t columns, std::uint32_t rows, double end_time_s);
 // A steady 6 x 4 lattice: a job that runs in a few milliseconds.
 v1::Scene QuickSteadyScene(const std::string& name);
 

@@ -47,17 +47,21 @@ void FillCommon(v1::Scene& scene, std::uint32_t columns, std::uint32_t rows) {
 
 }  // namespace
 
-v1::Scene TransientLatticeScene(std::uint32_t side) {
+v1::Scene TransientLatticeScene(std::uint32_t columns, std::uint32_t rows, double end_time_s) {
   v1::Scene scene;
   scene.set_name("bench-transient-lattice");
-  FillCommon(scene, side, side);
+  FillCommon(scene, columns, rows);
   auto* solver = scene.mutable_solver();
   solver->set_kind(v1::SOLVER_KIND_EXPLICIT);
   solver->set_storage(v1::STORAGE_VOLUME_PORE);
   solver->set_dt_factor(0.9);
-  // dt_crit is about 2 us here: 1000 s of simulated time is ~5e8 steps, never reached.
-  solver->set_end_time_s(1000.0);
+  solver->set_end_time_s(end_time_s);
   return scene;
+}
+
+v1::Scene TransientLatticeScene(std::uint32_t side) {
+  // dt_crit is about 2 us here: 1000 s of simulated time is ~5e8 steps, never reached.
+  return TransientLatticeScene(side, side, 1000.0);
 }
 
 v1::Scene QuickSteadyScene(const std::string& name) {

@@ -25,6 +25,18 @@ core::Status CheckLeaseMs(std::uint32_t lease_ms) {
       fmt::format("lease_ms: must be {} .. {} (got {})", kMinLeaseMs, kMaxLeaseMs, lease_ms));
 }
 
+core::Status CheckLeaseRef(const v1::LeaseRef& lease, const char* field) {
+  if (lease.job_id().empty()) {
+    return core::InvalidArgument(fmt::format("{}.job_id: is required", field));
+  }
+  if (lease.lease_epoch() <= 0) {
+    return core::InvalidArgument(
+        fmt::format("{}.lease_epoch: must be > 0, the epoch ClaimJob returned (got {})", field,
+                    lease.lease_epoch()));
+  }
+  return core::Status::Ok();
+}
+
 }  // namespace
 
 WorkerServiceImpl::WorkerServiceImpl(JobStore& store, StoreLedger& ledger, JobHub& hub,
@@ -45,14 +57,7 @@ grpc::Status WorkerServiceImpl::Guarded(const grpc::ServerContext* ctx, const ch
 
 core::Result<JobRecord> WorkerServiceImpl::HeldJob(const v1::LeaseRef& lease, const char* field,
                                                    bool with_scene) {
-  if (lease.job_id().empty()) {
-    return core::InvalidArgument(fmt::format("{}.job_id: is required", field));
-  }
-  if (lease.lease_epoch() <= 0) {
-    return core::InvalidArgument(
-        fmt::format("{}.lease_epoch: must be > 0, the epoch ClaimJob returned (got {})", field,
-                    lease.lease_epoch()));
-  }
+  SEEP_RETURN_IF_ERROR(CheckLeaseRef(lease, field));
   auto job = with_scene ? store_.Get(lease.job_id()) : store_.GetWithoutScene(lease.job_id());
   if (!job.ok()) {
     if (job.status().code() == core::StatusCode::kNotFound) {
@@ -68,6 +73,16 @@ core::Result<JobRecord> WorkerServiceImpl::HeldJob(const v1::LeaseRef& lease, co
         field, lease.job_id(), lease.lease_epoch(), JobStateName(job->state), job->lease_epoch));
   }
   return job;
+}
+
+core::Status WorkerServiceImpl::FencedWrite(const v1::LeaseRef& lease, const char* field,
+                                            const std::function<core::Status()>& write) {
+  SEEP_RETURN_IF_ERROR(CheckLeaseRef(lease, field));
+  core::Status written = write();
+  if (written.code() != core::StatusCode::kAborted) return written;
+  // Refused: an unknown job, another epoch or a job no longer RUNNING; say which.
+  const auto held = HeldJob(lease, field, /*with_scene=*/false);
+  return held.ok() ? written : held.status();
 }
 
 grpc::Status WorkerServiceImpl::ClaimJob(Ctx* ctx, const v1::ClaimJobRequest* request,
@@ -110,23 +125,25 @@ grpc::Status WorkerServiceImpl::Heartbeat(Ctx* ctx, const v1::HeartbeatRequest* 
                                           v1::HeartbeatResponse* response) {
   return Guarded(ctx, "Heartbeat", [&]() -> core::Status {
     SEEP_RETURN_IF_ERROR(CheckLeaseMs(request->lease_ms()));
-    SEEP_RETURN_IF_ERROR(HeldJob(request->lease(), "lease", false).status());
-    SEEP_ASSIGN_OR_RETURN(
-        const bool cancel,
-        ledger_.Heartbeat(request->lease().job_id(), request->lease().lease_epoch(),
-                          std::chrono::milliseconds(request->lease_ms())));
-    response->set_cancel_requested(cancel);
-    return core::Status::Ok();
+    return FencedWrite(request->lease(), "lease", [&]() -> core::Status {
+      SEEP_ASSIGN_OR_RETURN(
+          const bool cancel,
+          ledger_.Heartbeat(request->lease().job_id(), request->lease().lease_epoch(),
+                            std::chrono::milliseconds(request->lease_ms())));
+      response->set_cancel_requested(cancel);
+      return core::Status::Ok();
+    });
   });
 }
 
 grpc::Status WorkerServiceImpl::ReportProgress(Ctx* ctx, const v1::ReportProgressRequest* request,
                                                v1::ReportProgressResponse*) {
   return Guarded(ctx, "ReportProgress", [&]() -> core::Status {
-    SEEP_RETURN_IF_ERROR(HeldJob(request->lease(), "lease", false).status());
     const JobProgress progress = ProgressFromProto(request->progress());
-    SEEP_RETURN_IF_ERROR(ledger_.UpdateProgress(request->lease().job_id(),
-                                                request->lease().lease_epoch(), progress));
+    SEEP_RETURN_IF_ERROR(FencedWrite(request->lease(), "lease", [&] {
+      return ledger_.UpdateProgress(request->lease().job_id(), request->lease().lease_epoch(),
+                                    progress);
+    }));
     hub_.Publish(request->lease().job_id(), progress);
     return core::Status::Ok();
   });
@@ -139,9 +156,10 @@ grpc::Status WorkerServiceImpl::AddJobEvent(Ctx* ctx, const v1::AddJobEventReque
       return core::InvalidArgument(fmt::format("kind: must be 1 .. {} characters (got {})",
                                                kMaxEventKindBytes, request->kind().size()));
     }
-    SEEP_RETURN_IF_ERROR(HeldJob(request->lease(), "lease", false).status());
-    return ledger_.AddEvent(request->lease().job_id(), request->lease().lease_epoch(),
-                            request->kind(), request->message());
+    return FencedWrite(request->lease(), "lease", [&] {
+      return ledger_.AddEvent(request->lease().job_id(), request->lease().lease_epoch(),
+                              request->kind(), request->message());
+    });
   });
 }
 
@@ -271,7 +289,6 @@ grpc::Status WorkerServiceImpl::StoreResultSeries(Ctx* ctx,
                                                   const v1::StoreResultSeriesRequest* request,
                                                   v1::StoreResultSeriesResponse*) {
   return Guarded(ctx, "StoreResultSeries", [&]() -> core::Status {
-    SEEP_RETURN_IF_ERROR(HeldJob(request->lease(), "lease", false).status());
     if (request->state_sha256().size() != 64) {
       return core::InvalidArgument(
           fmt::format("state_sha256: must be 64 hex digits (got {} characters)",
@@ -284,8 +301,10 @@ grpc::Status WorkerServiceImpl::StoreResultSeries(Ctx* ctx,
     }
     const std::vector<std::string> columns(request->columns().begin(), request->columns().end());
     const std::vector<double> values(request->values().begin(), request->values().end());
-    return ledger_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
-                                     columns, values, request->state_sha256());
+    return FencedWrite(request->lease(), "lease", [&] {
+      return ledger_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
+                                       columns, values, request->state_sha256());
+    });
   });
 }
 
@@ -298,14 +317,14 @@ grpc::Status WorkerServiceImpl::FinishJob(Ctx* ctx, const v1::FinishJobRequest* 
           fmt::format("state: must be JOB_STATE_SUCCEEDED, _FAILED or _CANCELLED (got {})",
                       v1::JobState_Name(request->state())));
     }
-    SEEP_RETURN_IF_ERROR(HeldJob(request->lease(), "lease", false).status());
     std::vector<std::pair<std::string, double>> metrics;
     metrics.reserve(request->metrics_size());
     for (const v1::NamedValue& m : request->metrics()) metrics.emplace_back(m.name(), m.value());
     const std::string& id = request->lease().job_id();
-    SEEP_RETURN_IF_ERROR(ledger_.Finish(id, request->lease().lease_epoch(), *state,
-                                        request->error_code(), request->error_message(), metrics,
-                                        request->wall_time_s()));
+    SEEP_RETURN_IF_ERROR(FencedWrite(request->lease(), "lease", [&] {
+      return ledger_.Finish(id, request->lease().lease_epoch(), *state, request->error_code(),
+                            request->error_message(), metrics, request->wall_time_s());
+    }));
     logger_->info("job {} {} on a remote worker after {:.3f} s", id, JobStateName(*state),
                   request->wall_time_s());
     hub_.Finished(id);

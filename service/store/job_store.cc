@@ -566,6 +566,7 @@ Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
                                  std::int64_t expires_at_ms) {
   const StoreOperation operation("renew a lease");
   std::lock_guard lock(mutex_);
+  const RelaxedCommit relaxed(*db_);  // liveness only: a restart requeues RUNNING jobs
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = ? WHERE id = ? AND lease_epoch = "
                            "? AND state = 'RUNNING' RETURNING cancel_requested"));
@@ -592,6 +593,7 @@ Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
                                 const JobProgress& progress) {
   const StoreOperation operation("update progress");
   std::lock_guard lock(mutex_);
+  const RelaxedCommit relaxed(*db_);  // live progress; a resume restores it from a checkpoint
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("UPDATE jobs SET step = ?, time_s = ?, fraction_done = "
                                      "?, stage_index = ?, stage_count = ?, stage_name = ? WHERE "

@@ -182,6 +182,7 @@ Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
   }
   const StoreOperation operation("store result series");
   std::lock_guard lock(mutex_);
+  const RelaxedCommit relaxed(*db_);  // made durable by the outcome (Finish) that follows
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
   SEEP_ASSIGN_OR_RETURN(Stmt s,
@@ -220,6 +221,7 @@ Status JobStore::AddLeasedEvent(const std::string& id, std::int64_t epoch, std::
                                 const std::string& kind, const std::string& message) {
   const StoreOperation operation("add event");
   std::lock_guard lock(mutex_);
+  const RelaxedCommit relaxed(*db_);  // a worker's history line: durable with the next commit
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
   SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, at_ms, kind, message));

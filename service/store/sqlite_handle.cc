@@ -146,4 +146,11 @@ Status WriteTx::Commit() {
   return s;
 }
 
+RelaxedCommit::RelaxedCommit(Db& db) : db_(db) {
+  // A failure leaves FULL in place: the safe direction.
+  (void)db_.Exec("PRAGMA synchronous=NORMAL");
+}
+
+RelaxedCommit::~RelaxedCommit() { (void)db_.Exec("PRAGMA synchronous=FULL"); }
+
 }  // namespace seep::service

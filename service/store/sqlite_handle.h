@@ -104,4 +104,24 @@ class WriteTx {
   Db* db_;
 };
 
+// While it lives, commits on the connection skip their fsync (PRAGMA synchronous=NORMAL; FULL,
+// the connection's setting, comes back in its destructor), for writes whose loss at a power
+// failure is harmless: a lease renewal, live progress, a worker's history line, a result series
+// that its job's outcome follows (seepd's next start queues every RUNNING job again and resumes it
+// from its checkpoint either way). A crash of seepd alone loses nothing (the WAL is written before
+// the commit returns), and order is kept: the WAL is appended in order, recovery stops at the
+// first frame missing, and the next durable commit's fsync makes every frame before it durable,
+// so such a write is lost only together with every later one that was not yet durable either.
+// Not for claims (a lease epoch that could be handed out twice), outcomes or checkpoint records.
+class RelaxedCommit {
+ public:
+  explicit RelaxedCommit(Db& db);
+  ~RelaxedCommit();
+  RelaxedCommit(const RelaxedCommit&) = delete;
+  RelaxedCommit& operator=(const RelaxedCommit&) = delete;
+
+ private:
+  Db& db_;
+};
+
 }  // namespace seep::service
