@@ -246,7 +246,7 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
   double* __restrict g_hi = edge_rhi_.data();
   const double* __restrict inv_lo = edge_inv_r_lo_.data();
   const double* __restrict inv_hi = edge_inv_r_hi_.data();
-  // Both passes write per edge only: threads change no bit.
+  // Every pass writes per edge only: threads change no bit.
 #pragma omp parallel if (edges >= internal::kMinParallelItems)
   {
 #pragma omp for schedule(static)
@@ -277,19 +277,22 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
       term[2 * e + 1] = half_lens + sector_turn;  // walked hi -> lo
       slow[e] = (turn_ok & lens_ok) ? 0.0 : 1.0;  // a double: a byte store stops the vectoriser
     }
-  }
-  // Pass 2: the flagged few (a large turn since Bind, a deep overlap) with atan2 and LensArea.
-  for (std::ptrdiff_t e = 0; e < edges; ++e) {
-    if (slow[e] == 0.0) continue;
-    const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
-    const double dx = x[hi] - x[lo];
-    const double dy = y[hi] - y[lo];
-    const double turn = TurnAngle(x0[e] * dy - y0[e] * dx, x0[e] * dx + y0[e] * dy);
-    const double r_lo = r[lo], r_hi = r[hi];
-    const double half_lens = HalfLens(r_lo, r_hi, dx, dy);
-    const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
-    term[2 * e] = half_lens - sector_turn;
-    term[2 * e + 1] = half_lens + sector_turn;
+    // Pass 2: the flagged few (a large turn since Bind, a deep overlap; every edge of a wall
+    // vertex) with atan2 and LensArea. On the threads too (after pass 1's barrier): the scan
+    // over all edges was serial work at every flow update.
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t e = 0; e < edges; ++e) {
+      if (slow[e] == 0.0) continue;
+      const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
+      const double dx = x[hi] - x[lo];
+      const double dy = y[hi] - y[lo];
+      const double turn = TurnAngle(x0[e] * dy - y0[e] * dx, x0[e] * dx + y0[e] * dy);
+      const double r_lo = r[lo], r_hi = r[hi];
+      const double half_lens = HalfLens(r_lo, r_hi, dx, dy);
+      const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
+      term[2 * e] = half_lens - sector_turn;
+      term[2 * e + 1] = half_lens + sector_turn;
+    }
   }
 }
 

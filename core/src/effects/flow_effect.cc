@@ -48,7 +48,8 @@ void AddLedgerMetrics(std::span<const std::string> names, const FluidLedger& led
 
 Status FlowEffect::RefreshFluidWeight(LiveState& s) {
   if (!weight_ || !s.has_network) return Status::Ok();
-  const ParticleView positions = s.moves() ? vertices_.Current(s) : ViewOf(s.net.packing);
+  const ParticleView positions =
+      s.moves() ? s.step_vertices.CurrentInStep(s) : ViewOf(s.net.packing);
   SEEP_RETURN_IF_ERROR(ComputeNodeWeightPressures(s.net, positions, *weight_, &node_weight_));
   return ApplyHeadOffsets(node_weight_, &s.net.flow);
 }

@@ -82,8 +82,8 @@ class FluidForcesEffect final : public Effect {
     if (weight_) {
       // The chord rule on the heads P - W, then Archimedes (coupling/buoyancy.h); the weights
       // from this step's positions, as the chords are.
-      SEEP_RETURN_IF_ERROR(
-          ComputeNodeWeightPressures(s.net, vertices_.Current(s), *weight_, &node_weight_));
+      SEEP_RETURN_IF_ERROR(ComputeNodeWeightPressures(s.net, s.step_vertices.CurrentInStep(s),
+                                                      *weight_, &node_weight_));
       head_.resize(pressure.size());
       for (std::size_t n = 0; n < pressure.size(); ++n) head_[n] = pressure[n] - node_weight_[n];
       pressure = head_;
@@ -110,7 +110,7 @@ class FluidForcesEffect final : public Effect {
     }
     std::fill(vertex_fx_.begin(), vertex_fx_.end(), 0.0);
     std::fill(vertex_fy_.begin(), vertex_fy_.end(), 0.0);
-    kernel_.Apply(vertices_.Current(s), slot_pressure_.data(),
+    kernel_.Apply(s.step_vertices.CurrentInStep(s), slot_pressure_.data(),
                   {s.particles.fx.data(), s.particles.fy.data(), s.particles.size(),
                    vertex_fx_.data(), vertex_fy_.data()});
     AddWallLoads(s);
@@ -157,7 +157,6 @@ class FluidForcesEffect final : public Effect {
   std::vector<double> boundary_pressure_;
   std::vector<double> arc_pressure_;
   OuterArcPressures outer_;
-  FluidVertices vertices_;
   std::vector<double> vertex_fx_, vertex_fy_;  // per wall vertex, the pressure force on it
   std::vector<WallPore> wall_pores_;
   std::optional<FluidWeight> weight_;
@@ -194,6 +193,7 @@ class ApertureUpdateEffect final : public Effect {
     if (pair_version_ != dem.pair_table_version()) {
       SEEP_RETURN_IF_ERROR(dem.FindPairs(c.i, c.j, &pair_of_contact_));
       pair_of_pipe_.resize(pipes);
+      foot_pipes_.clear();
       const DomainWalls& walls = s.net.domains.walls;
       for (std::size_t p = 0; p < pipes; ++p) {
         const std::int32_t contact = pipe_contact[p];
@@ -201,6 +201,7 @@ class ApertureUpdateEffect final : public Effect {
           pair_of_pipe_[p] = kNoContact;
         } else if (walls.IsWallEdge(contact)) {
           pair_of_pipe_[p] = kWallFoot;  // a particle-wall contact (stretches carry no pipe here)
+          foot_pipes_.push_back(p);
         } else {
           pair_of_pipe_[p] = pair_of_contact_[static_cast<std::size_t>(contact)];
         }
@@ -250,8 +251,7 @@ class ApertureUpdateEffect final : public Effect {
                                         &wall_contacts_, &wall_force_);
     const DomainWalls& walls = s.net.domains.walls;
     const std::span<const std::int32_t> pipe_contact = s.net.pipe_contact;
-    for (std::size_t p = 0; p < pipe_contact.size(); ++p) {
-      if (pair_of_pipe_[p] != kWallFoot) continue;
+    for (const std::size_t p : foot_pipes_) {
       const std::size_t e = walls.Edge(pipe_contact[p]);
       const std::int32_t particle = walls.edge_particle[e];
       const std::int32_t w = walls.edge_wall[e];
@@ -281,9 +281,12 @@ class ApertureUpdateEffect final : public Effect {
   std::uint64_t pair_version_ = kNoPairTable;
   std::vector<std::int32_t> pair_of_contact_;  // DEM pair per network contact, or -1
   std::vector<std::int32_t> pair_of_pipe_;     // DEM pair per pipe, -1 unlisted, kNoContact
-  std::vector<double> force_, gap_;            // per pipe
-  WallContactList wall_contacts_;              // the DEM's wall contacts at this flow update
-  std::vector<double> wall_force_;             // and their normal forces
+  // The kWallFoot pipes in ascending order: a few hundred of the pipes, which FootForcesAndGaps
+  // visits without a serial pass over them all at every flow update.
+  std::vector<std::size_t> foot_pipes_;
+  std::vector<double> force_, gap_;  // per pipe
+  WallContactList wall_contacts_;    // the DEM's wall contacts at this flow update
+  std::vector<double> wall_force_;   // and their normal forces
 };
 
 }  // namespace

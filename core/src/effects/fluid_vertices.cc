@@ -2,10 +2,27 @@
 
 #include <algorithm>
 
+#include "../parallel_threshold.h"
+#include "seep/core/effects/live_state.h"
+
 namespace seep::core {
 
 ParticleView FluidVertices::Current(const LiveState& s) {
   return Fill(s, s.particles.x, s.particles.y, false);
+}
+
+ParticleView FluidVertices::CurrentInStep(const LiveState& s) {
+  const DomainWalls& walls = s.net.domains.walls;
+  if (walls.empty()) return ParticleView{s.particles.x, s.particles.y, s.particles.radius};
+  if (s.step_stamp != 0 && s.step_stamp == filled_stamp_ &&
+      s.topology_version == filled_topology_ &&
+      x_.size() == s.particles.size() + walls.num_vertices()) {
+    return ParticleView{x_, y_, radius_};
+  }
+  const ParticleView view = Fill(s, s.particles.x, s.particles.y, false);
+  filled_stamp_ = s.step_stamp;
+  filled_topology_ = s.topology_version;
+  return view;
 }
 
 ParticleView FluidVertices::AtDetection(const LiveState& s) {
@@ -14,6 +31,7 @@ ParticleView FluidVertices::AtDetection(const LiveState& s) {
 
 ParticleView FluidVertices::Fill(const LiveState& s, std::span<const double> x,
                                  std::span<const double> y, bool detected) {
+  filled_stamp_ = 0;  // whatever the arrays held, CurrentInStep sets it again after a fill
   const DomainWalls& walls = s.net.domains.walls;
   const std::span<const double> radius = s.particles.radius;
   if (walls.empty()) return ParticleView{x, y, radius};
@@ -26,8 +44,18 @@ ParticleView FluidVertices::Fill(const LiveState& s, std::span<const double> x,
     radius_.assign(total, 0.0);
     std::copy(radius.begin(), radius.end(), radius_.begin());
   }
-  std::copy(x.begin(), x.end(), x_.begin());
-  std::copy(y.begin(), y.end(), y_.begin());
+  // The copy is the fill's whole cost (the vertices are a few hundred): on the threads, as the
+  // passes that read it are (a copy changes no bit).
+  const double* __restrict from_x = x.data();
+  const double* __restrict from_y = y.data();
+  double* __restrict to_x = x_.data();
+  double* __restrict to_y = y_.data();
+  const auto particles = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (particles >= internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < particles; ++i) {
+    to_x[i] = from_x[i];
+    to_y[i] = from_y[i];
+  }
   const std::span<double> vx = std::span<double>(x_).subspan(n);
   const std::span<double> vy = std::span<double>(y_).subspan(n);
   if (detected) {

@@ -28,9 +28,11 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
   const bool pore = s.storage.volume == StorageVolume::kPore;
   if (pore) {
-    SEEP_RETURN_IF_ERROR(updater_.Compute(vertices_.Current(s), s.net.domains, apparent_, pore_));
+    SEEP_RETURN_IF_ERROR(
+        updater_.Compute(s.step_vertices.CurrentInStep(s), s.net.domains, apparent_, pore_));
   } else {
-    SEEP_RETURN_IF_ERROR(updater_.ComputeApparent(vertices_.Current(s), s.net.domains, apparent_));
+    SEEP_RETURN_IF_ERROR(
+        updater_.ComputeApparent(s.step_vertices.CurrentInStep(s), s.net.domains, apparent_));
   }
   ++s.counters.volume_updates;
   const std::size_t n = apparent_.size();

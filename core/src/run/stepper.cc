@@ -353,6 +353,13 @@ Status Stepper::Step() {
     if (!s.walls.empty()) MoveWalls(&s.walls, dt_);
     integration_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
   }
+  // Particles and walls stand still from here to the end of the step: effects may share what they
+  // compute from the positions until then (FluidVertices::CurrentInStep), and not beyond.
+  s.step_stamp = ++s.last_step_stamp;
+  const struct StepStampReset {
+    LiveState& s;
+    ~StepStampReset() { s.step_stamp = 0; }
+  } reset_stamp{s};
   for (const std::size_t k : force_) {
     Effect& e = *effects_.all[k];
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));

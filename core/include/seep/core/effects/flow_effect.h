@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "seep/core/effects/effect.h"
-#include "seep/core/effects/fluid_vertices.h"
 #include "seep/core/flow/explicit_solver.h"
 #include "seep/core/flow/implicit_solver.h"
 #include "seep/core/network/fluid_weight.h"
@@ -81,7 +80,6 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   FlowEffectState state_;
   std::optional<FluidWeight> weight_;
   std::vector<double> node_weight_;  // W_n of the last refresh, Pa
-  FluidVertices vertices_;           // the loops' vertices now (walls in the fluid)
   // The books' boundaries: (fixed node, boundary index) of the current network, and the tally
   // the solver fills over an update (transient modes only).
   std::vector<std::string> boundary_names_;  // FluidBoundaryNames of the scene, set at bind

@@ -16,6 +16,7 @@
 #include "seep/core/dem/dem_particles.h"
 #include "seep/core/dem/dem_wall.h"
 #include "seep/core/effects/fluid_ledger.h"
+#include "seep/core/effects/fluid_vertices.h"
 #include "seep/core/network/scene_network.h"
 #include "seep/core/spec/scene_spec.h"
 
@@ -72,6 +73,12 @@ struct LiveState {
   std::optional<DemContactForces> contacts;
   FluidBooks books;
   EffectCounters counters;
+  // Inside Stepper::Step, from the drift on: a number no other step had; 0 outside a step.
+  std::uint64_t step_stamp = 0;
+  std::uint64_t last_step_stamp = 0;  // the last one handed out
+  // The particles and wall vertices of this step, copied once for the effects that read the
+  // loops every step (FluidVertices::CurrentInStep; with walls in the fluid).
+  FluidVertices step_vertices;
 
   bool moves() const { return contacts.has_value(); }
 };

@@ -30,7 +30,8 @@ class VolumeChangeEffect final : public Effect {
 
  private:
   DomainVolumeUpdater updater_;
-  mutable FluidVertices vertices_;  // scratch: the particles and wall vertices now
+  // Scratch: the wall vertices at detection (Bind), and now for a report outside a step.
+  mutable FluidVertices vertices_;
   std::vector<double> apparent_, pore_;
   std::vector<double> change_;
 };
