@@ -179,22 +179,22 @@ void SlurmExecutor::Loop(const std::stop_token& stop) {
   }
 }
 
-bool SlurmExecutor::RefreshStates() {
+std::optional<std::vector<BatchJobRecord>> SlurmExecutor::RefreshStates() {
   auto live = store_.LiveBatchJobs();
   if (!live.ok()) {
     logger_->warn("slurm executor: batch jobs not read: {}", live.status().ToString());
-    return false;
+    return std::nullopt;
   }
-  if (live->empty()) return true;
+  if (live->empty()) return std::move(*live);
   auto listed = RunCommand({"squeue", "--noheader", "--me", "--states=all", "--format=%i|%T|%N"},
                            {}, options_.command_timeout);
   if (!listed.ok() || listed->exit_code != 0) {
     logger_->warn("slurm executor: squeue failed ({}); states kept as they were",
                   listed.ok() ? FirstLine(listed->err) : listed.status().message());
-    return false;
+    return std::nullopt;
   }
   const std::map<std::string, SeenJob> seen = ParseSqueue(listed->out);
-  for (const BatchJobRecord& batch : *live) {
+  for (BatchJobRecord& batch : *live) {
     const auto it = seen.find(batch.id);
     // Gone from squeue: it ended long enough ago for the controller to forget it.
     const SeenJob now = it == seen.end() ? SeenJob{"ENDED", ""} : it->second;
@@ -202,17 +202,22 @@ bool SlurmExecutor::RefreshStates() {
     if (now.state == batch.state && (now.node.empty() || now.node == batch.node) && !ended) {
       continue;
     }
-    if (auto updated =
-            store_.UpdateBatchJob(batch.id, now.state, now.node,
-                                  ended ? std::optional<std::int64_t>(NowMs()) : std::nullopt);
+    const std::optional<std::int64_t> ended_at =
+        ended ? std::optional<std::int64_t>(NowMs()) : std::nullopt;
+    if (auto updated = store_.UpdateBatchJob(batch.id, now.state, now.node, ended_at);
         !updated.ok()) {
       logger_->warn("slurm executor: batch job {} not updated: {}", batch.id, updated.ToString());
-    } else if (now.state != batch.state) {
+      continue;
+    }
+    if (now.state != batch.state) {
       logger_->info("slurm executor: batch job {} {}{}", batch.id, now.state,
                     now.node.empty() ? "" : " on " + now.node);
     }
+    batch.state = now.state;
+    if (!now.node.empty()) batch.node = now.node;
+    batch.ended_at_ms = ended_at;
   }
-  return true;
+  return std::move(*live);
 }
 
 std::vector<std::string> SlurmExecutor::SbatchArgv(bool test_only) const {
@@ -238,7 +243,8 @@ core::Result<std::string> SlurmExecutor::Submit() {
   std::map<std::string, std::string> env;
   if (!options_.token.empty()) env["SEEP_TOKEN"] = options_.token;  // exported to the job
   SEEP_ASSIGN_OR_RETURN(const CommandOutput out, RunCommand(argv, env, options_.command_timeout));
-  const std::string id = FirstLine(out.out).substr(0, FirstLine(out.out).find(';'));
+  const std::string first_line = FirstLine(out.out);  // "<id>" or "<id>;<cluster>"
+  const std::string id = first_line.substr(0, first_line.find(';'));
   if (out.exit_code != 0 || id.empty() ||
       id.find_first_not_of("0123456789_") != std::string::npos) {
     return core::Unavailable(fmt::format("sbatch failed (exit {}): {}", out.exit_code,
@@ -265,12 +271,11 @@ void SlurmExecutor::Cancel(const std::string& batch_job_id, const char* why) {
 }
 
 void SlurmExecutor::ReconcileOnce() {
-  if (!RefreshStates()) return;
+  const std::optional<std::vector<BatchJobRecord>> live = RefreshStates();
+  if (!live) return;
   auto demand = store_.BatchDemandNow();
-  auto live = store_.LiveBatchJobs();
-  if (!demand.ok() || !live.ok()) {
-    logger_->warn("slurm executor: the queue not read: {}",
-                  (demand.ok() ? live.status() : demand.status()).ToString());
+  if (!demand.ok()) {
+    logger_->warn("slurm executor: the queue not read: {}", demand.status().ToString());
     return;
   }
   const BatchPlan plan = PlanBatchJobs(*demand, *live, plan_options_);

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -69,8 +70,9 @@ class SlurmExecutor {
  private:
   void Loop(const std::stop_token& stop);
   void ReconcileOnce();
-  // Step 1: the live batch jobs' states from squeue, stored; false when squeue did not answer.
-  bool RefreshStates();
+  // Step 1: the live batch jobs' states from squeue, stored; returns them as they are now (those
+  // that ended flagged so), or nullopt when the store or squeue did not answer.
+  std::optional<std::vector<BatchJobRecord>> RefreshStates();
   // sbatch's arguments for one worker's batch job (with --test-only: checked, not submitted).
   std::vector<std::string> SbatchArgv(bool test_only) const;
   core::Result<std::string> Submit();

@@ -144,8 +144,7 @@ grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* ctx, const v1::GetJobR
     if (job.placement) {
       // The batch job's state as the executor last saw it; unknown when seepd did not submit it.
       if (auto batch = store_.GetBatchJob(job.placement->batch_job_id); batch.ok()) {
-        resp->mutable_job()->mutable_batch()->set_state(
-            batch->ended_at_ms && batch->state.empty() ? "ENDED" : batch->state);
+        resp->mutable_job()->mutable_batch()->set_state(batch->state);
         if (job.placement->node.empty())
           resp->mutable_job()->mutable_batch()->set_node(batch->node);
       } else if (batch.status().code() != core::StatusCode::kNotFound) {

@@ -40,12 +40,8 @@ Status JobStore::InsertBatchJob(const BatchJobRecord& batch) {
       .Bind(3, static_cast<std::int64_t>(batch.max_jobs))
       .Bind(4, std::string_view(batch.state))
       .Bind(5, std::string_view(batch.node))
-      .Bind(6, batch.submitted_at_ms);
-  if (batch.ended_at_ms) {
-    s.Bind(7, *batch.ended_at_ms);
-  } else {
-    s.BindNull(7);
-  }
+      .Bind(6, batch.submitted_at_ms)
+      .Bind(7, batch.ended_at_ms);
   return s.Run();
 }
 
@@ -86,13 +82,9 @@ Status JobStore::UpdateBatchJob(const std::string& id, const std::string& state,
                    "? END, ended_at_ms = ? WHERE id = ?"));
   s.Bind(1, std::string_view(state))
       .Bind(2, std::string_view(node))
-      .Bind(3, std::string_view(node));
-  if (ended_at_ms) {
-    s.Bind(4, *ended_at_ms);
-  } else {
-    s.BindNull(4);
-  }
-  s.Bind(5, std::string_view(id));
+      .Bind(3, std::string_view(node))
+      .Bind(4, ended_at_ms)
+      .Bind(5, std::string_view(id));
   return s.Run();
 }
 

@@ -45,6 +45,7 @@ class Stmt {
   Stmt& BindBlob(int index, std::string_view bytes);
   Stmt& BindNull(int index);
   Stmt& Bind(int index, const std::optional<std::string>& text);
+  Stmt& Bind(int index, const std::optional<std::int64_t>& value);  // NULL when absent
 
   // Makes the statement ready to run again with new bindings.
   void Reset();
