@@ -32,7 +32,10 @@ int DecodeWaitStatus(int status) {
 CommandResult RunCommand(const std::vector<std::string>& argv) {
   int pipe_fds[2];
   CommandResult result;
-  if (pipe(pipe_fds) != 0) return result;
+  // Close-on-exec: only the child's stdout and stderr hold the write end. A daemon the command
+  // starts (slurm_cluster.sh starts munged) that kept an inherited copy would keep the pipe
+  // open, and the read below would never see its end.
+  if (pipe2(pipe_fds, O_CLOEXEC) != 0) return result;
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);

@@ -3,10 +3,19 @@
 # kept inside DIR: its slurm.conf, state, spool, logs and pid files, so that nothing under /etc is
 # written and a test run leaves no daemon behind (stop). MUNGE is the system's: started if it is
 # not running, its key created if missing.
-#   slurm_cluster.sh start DIR   -> DIR/slurm.conf (export SLURM_CONF=DIR/slurm.conf), or DIR/skip
-#                                   holding why no cluster could be started (the tests then skip)
+#   slurm_cluster.sh start DIR   -> DIR/slurm.conf (export SLURM_CONF=DIR/slurm.conf); or DIR/skip
+#                                   holding why no cluster can run here (Slurm not installed, not
+#                                   root: the tests then skip); or exit 1 with the daemons' logs when
+#                                   one was installed but did not come up (the tests then fail)
 #   slurm_cluster.sh stop DIR    -> the daemons started by `start` stopped, their jobs with them
 set -uo pipefail
+
+# The daemons started below must not inherit a descriptor of our caller's: munged keeps every one
+# it is given, so a caller reading our output through a pipe would wait for its end forever.
+for fd_path in /proc/$$/fd/*; do
+  fd=${fd_path##*/}
+  case $fd in 0 | 1 | 2 | 255) ;; *) eval "exec $fd>&-" 2>/dev/null ;; esac
+done
 action=${1:?start or stop}
 dir=${2:?the cluster folder}
 mkdir -p "$dir"
@@ -19,6 +28,15 @@ skip() {
   echo "$*" > "$dir/skip"
   echo "slurm_cluster: no cluster: $*" >&2
   exit 0
+}
+
+# A daemon that is installed but did not come up: a failure, with what its log says.
+fail() {
+  echo "slurm_cluster: $1" >&2
+  for log in "${@:2}"; do
+    [ -f "$log" ] && { echo "--- the end of $log:" >&2; tail -n 20 "$log" >&2; }
+  done
+  exit 1
 }
 
 stop_pid_file() {
@@ -40,7 +58,7 @@ if [ "$action" = stop ]; then
 fi
 
 rm -f "$dir/skip"
-for program in slurmctld slurmd sbatch squeue scancel munged; do
+for program in slurmctld slurmd sbatch squeue scancel munged munge; do
   command -v "$program" >/dev/null 2>&1 || [ -x "/usr/sbin/$program" ] ||
     skip "$program is not installed (Debian: apt-get install slurm-wlm munge)"
 done
@@ -49,14 +67,16 @@ if [ "$(id -u)" -ne 0 ] && ! sudo -n true 2>/dev/null; then
 fi
 
 # MUNGE: every Slurm message is signed with its key.
-if ! pgrep -x munged >/dev/null; then
+# Running if it answers (a pgrep would also see a munged that has died but is not yet reaped).
+if ! munge -n </dev/null >/dev/null 2>&1; then
   "${sudo_cmd[@]}" mkdir -p /etc/munge /var/lib/munge /var/log/munge /run/munge
   if [ ! -s /etc/munge/munge.key ]; then
     "${sudo_cmd[@]}" sh -c 'dd if=/dev/urandom bs=1 count=1024 of=/etc/munge/munge.key 2>/dev/null'
   fi
   "${sudo_cmd[@]}" chown -R munge:munge /etc/munge /var/lib/munge /var/log/munge /run/munge
   "${sudo_cmd[@]}" chmod 400 /etc/munge/munge.key
-  "${sudo_cmd[@]}" su -s /bin/sh munge -c /usr/sbin/munged || skip "munged did not start"
+  "${sudo_cmd[@]}" su -s /bin/sh munge -c /usr/sbin/munged </dev/null ||
+    fail "munged did not start" /var/log/munge/munged.log
 fi
 
 host=$(hostname -s)
@@ -91,14 +111,17 @@ PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF="$dir/slurm.conf"
 # -i: ignore state a previous run may have left in this folder.
-"${sudo_cmd[@]}" env SLURM_CONF="$SLURM_CONF" /usr/sbin/slurmctld -i || skip "slurmctld did not start (see $dir/log/slurmctld.log)"
+"${sudo_cmd[@]}" env SLURM_CONF="$SLURM_CONF" /usr/sbin/slurmctld -i </dev/null ||
+  fail "slurmctld did not start" "$dir/log/slurmctld.log"
 sleep 1
-"${sudo_cmd[@]}" env SLURM_CONF="$SLURM_CONF" /usr/sbin/slurmd || skip "slurmd did not start (see $dir/log/slurmd.log)"
+"${sudo_cmd[@]}" env SLURM_CONF="$SLURM_CONF" /usr/sbin/slurmd </dev/null ||
+  fail "slurmd did not start" "$dir/log/slurmd.log"
 for _ in $(seq 60); do
-  if sinfo --noheader --format=%t 2>/dev/null | grep -qxE '(idle|mix|alloc)'; then
+  if timeout 5 sinfo --noheader --format=%t 2>/dev/null | grep -qxE '(idle|mix|alloc)'; then
     echo "slurm_cluster: one node ($host, $cpus CPUs) up; SLURM_CONF=$SLURM_CONF"
     exit 0
   fi
   sleep 0.5
 done
-skip "the node did not come up within 30 s: $(sinfo 2>&1 | tail -n 1)"
+fail "the node did not come up within 30 s: $(timeout 10 sinfo 2>&1 | tail -n 1)" \
+  "$dir/log/slurmctld.log" "$dir/log/slurmd.log"

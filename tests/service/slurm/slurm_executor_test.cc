@@ -19,20 +19,27 @@
 namespace seep::testing {
 namespace {
 
-// Why no cluster runs ("" when one does), set once by the environment below.
+// Why no cluster can run here ("" when one can; the tests skip), and why one that could did not
+// come up ("" when it did; the tests fail), set once by the environment below.
 std::string g_no_cluster;
+std::string g_cluster_failed;
 
 class SlurmCluster : public ::testing::Environment {
  public:
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() / fmt::format("seep-slurm-{}", ::getpid());
     std::filesystem::remove_all(dir_);
-    const CommandResult started = RunCommand({SLURM_CLUSTER_SCRIPT, "start", dir_.string()});
+    // Bounded: a cluster that hangs at its start fails the tests with what it printed instead of
+    // running into CTest's timeout silently.
+    const CommandResult started =
+        RunCommand({"/usr/bin/timeout", "120", SLURM_CLUSTER_SCRIPT, "start", dir_.string()});
     std::printf("%s", started.output.c_str());
     if (std::filesystem::exists(dir_ / "skip")) {
       g_no_cluster = ReadFile(dir_ / "skip");
     } else if (started.exit_code != 0) {
-      g_no_cluster = "slurm_cluster.sh start failed: " + started.output;
+      g_cluster_failed = fmt::format(
+          "slurm_cluster.sh start exited with {} (124: it hung; what it printed is above)",
+          started.exit_code);
     } else {
       // seepd, and the sbatch/squeue/scancel it runs, find the cluster through it.
       ::setenv("SLURM_CONF", (dir_ / "slurm.conf").c_str(), 1);
@@ -94,10 +101,11 @@ class SlurmExecutor : public GrpcSeepdTest {
 
   void SetUp() override {
     if (!g_no_cluster.empty()) GTEST_SKIP() << "no Slurm cluster: " << g_no_cluster;
+    ASSERT_TRUE(g_cluster_failed.empty()) << g_cluster_failed;
     GrpcSeepdTest::SetUp();
   }
   void TearDown() override {
-    if (!g_no_cluster.empty()) return;
+    if (!g_no_cluster.empty() || !g_cluster_failed.empty()) return;
     GrpcSeepdTest::TearDown();
     // Whatever a failed test left queued or running in the cluster.
     RunCommand({Slurm("scancel"), "--me"});
