@@ -10,6 +10,7 @@
 #include "codec/worker_codec.h"
 #include "jobs/wall_clock.h"
 #include "rpc/guarded_call.h"
+#include "rpc/keep_lease_reactor.h"
 #include "store/checkpoint_io.h"
 
 namespace seep::service {
@@ -147,6 +148,38 @@ grpc::Status WorkerServiceImpl::ReportProgress(Ctx* ctx, const v1::ReportProgres
     hub_.Publish(request->lease().job_id(), progress);
     return core::Status::Ok();
   });
+}
+
+core::Result<bool> WorkerServiceImpl::Beat(const v1::LeaseBeat& beat) {
+  if (beat.lease_ms() == 0 && !beat.has_progress()) {
+    return core::InvalidArgument(
+        "lease_ms: a beat without progress renews the lease: 500 .. 86400000 ms (got 0)");
+  }
+  bool cancel = false;
+  if (beat.lease_ms() != 0) {
+    SEEP_RETURN_IF_ERROR(CheckLeaseMs(beat.lease_ms()));
+    SEEP_RETURN_IF_ERROR(FencedWrite(beat.lease(), "lease", [&]() -> core::Status {
+      SEEP_ASSIGN_OR_RETURN(cancel,
+                            ledger_.Heartbeat(beat.lease().job_id(), beat.lease().lease_epoch(),
+                                              std::chrono::milliseconds(beat.lease_ms())));
+      return core::Status::Ok();
+    }));
+  }
+  if (beat.has_progress()) {
+    const JobProgress progress = ProgressFromProto(beat.progress());
+    SEEP_RETURN_IF_ERROR(FencedWrite(beat.lease(), "lease", [&] {
+      return ledger_.UpdateProgress(beat.lease().job_id(), beat.lease().lease_epoch(), progress);
+    }));
+    hub_.Publish(beat.lease().job_id(), progress);
+  }
+  return cancel;
+}
+
+grpc::ServerBidiReactor<v1::LeaseBeat, v1::LeaseNews>* WorkerServiceImpl::KeepLease(
+    grpc::CallbackServerContext* ctx) {
+  return new KeepLeaseReactor(
+      ctx, options_.auth, [this](const v1::LeaseBeat& beat) { return Beat(beat); }, *logger_,
+      metrics_);
 }
 
 grpc::Status WorkerServiceImpl::AddJobEvent(Ctx* ctx, const v1::AddJobEventRequest* request,

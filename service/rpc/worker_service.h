@@ -30,7 +30,9 @@ struct WorkerServiceOptions {
   std::uint64_t max_checkpoint_bytes = kDefaultMaxCheckpointUploadBytes;
 };
 
-class WorkerServiceImpl final : public v1::WorkerService::Service {
+// KeepLease runs on gRPC's callback API (KeepLeaseReactor), the other methods synchronously.
+class WorkerServiceImpl final
+    : public v1::WorkerService::WithCallbackMethod_KeepLease<v1::WorkerService::Service> {
  public:
   WorkerServiceImpl(JobStore& store, StoreLedger& ledger, JobHub& hub,
                     std::shared_ptr<spdlog::logger> logger, WorkerServiceOptions options = {},
@@ -41,6 +43,8 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
   grpc::Status Heartbeat(Ctx*, const v1::HeartbeatRequest*, v1::HeartbeatResponse*) override;
   grpc::Status ReportProgress(Ctx*, const v1::ReportProgressRequest*,
                               v1::ReportProgressResponse*) override;
+  grpc::ServerBidiReactor<v1::LeaseBeat, v1::LeaseNews>* KeepLease(
+      grpc::CallbackServerContext* ctx) override;
   grpc::Status AddJobEvent(Ctx*, const v1::AddJobEventRequest*, v1::AddJobEventResponse*) override;
   grpc::Status UploadCheckpoint(Ctx*, grpc::ServerReader<v1::UploadCheckpointRequest>*,
                                 v1::UploadCheckpointResponse*) override;
@@ -64,6 +68,9 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
   // (heartbeats, progress) cost one statement instead of that and five reads of the job.
   core::Status FencedWrite(const v1::LeaseRef& lease, const char* field,
                            const std::function<core::Status()>& write);
+  // One beat of a KeepLease stream: Heartbeat's checks and write, then ReportProgress's when the
+  // beat carries progress. True when a cancel of the job is pending.
+  core::Result<bool> Beat(const v1::LeaseBeat& beat);
   // The checkpoint upload after its first message: chunks read, checked and kept.
   grpc::Status ReceiveCheckpoint(grpc::ServerReader<v1::UploadCheckpointRequest>& reader,
                                  const v1::CheckpointUploadStart& start,

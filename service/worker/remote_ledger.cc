@@ -14,6 +14,8 @@ namespace {
 
 // Checkpoint transfers carry up to the whole state: longer than a unary call.
 constexpr int kTransferTimeoutFactor = 10;
+// See RemoteLedger::closed_epochs_.
+constexpr std::size_t kClosedLeasesKept = 4096;
 
 void SetLease(const std::string& id, std::int64_t epoch, v1::LeaseRef* out) {
   out->set_job_id(id);
@@ -100,25 +102,69 @@ core::Result<std::optional<JobRecord>> RemoteLedger::Claim(const std::string& ow
   return std::optional<JobRecord>(LeasedJobFromProto(response.job()));
 }
 
+core::Result<bool> RemoteLedger::Beat(const std::string& id, std::int64_t epoch,
+                                      std::chrono::milliseconds lease,
+                                      const v1::Progress* progress) {
+  std::shared_ptr<LeaseStream> stream;
+  {
+    std::lock_guard lock(streams_mutex_);
+    if (const auto closed = closed_epochs_.find(id);
+        closed != closed_epochs_.end() && closed->second >= epoch) {
+      return core::Aborted(fmt::format(
+          "WorkerService.KeepLease: the lease of job {} (epoch {}) ended with the job's finish", id,
+          epoch));
+    }
+    auto it = streams_.find(id);
+    if (it == streams_.end() || stream_epochs_[id] != epoch) {
+      auto ctx = std::make_unique<grpc::ClientContext>();
+      if (prepare_) prepare_(ctx.get());
+      v1::LeaseRef ref;
+      SetLease(id, epoch, &ref);
+      streams_[id] = std::make_shared<LeaseStream>(*stub_, std::move(ctx), std::move(ref));
+      stream_epochs_[id] = epoch;
+      it = streams_.find(id);
+    }
+    stream = it->second;
+  }
+  auto cancel = stream->Beat(LeaseMs(lease), progress);
+  if (!cancel.ok()) {
+    std::lock_guard lock(streams_mutex_);
+    const auto it = streams_.find(id);
+    if (it != streams_.end() && it->second == stream) {
+      streams_.erase(it);
+      stream_epochs_.erase(id);
+    }
+  }
+  return cancel;
+}
+
+void RemoteLedger::CloseStream(const std::string& id, std::int64_t epoch) {
+  std::shared_ptr<LeaseStream> stream;
+  {
+    std::lock_guard lock(streams_mutex_);
+    if (closed_epochs_.size() >= kClosedLeasesKept) closed_epochs_.clear();
+    closed_epochs_[id] = epoch;
+    const auto it = streams_.find(id);
+    if (it == streams_.end()) return;
+    stream = std::move(it->second);
+    streams_.erase(it);
+    stream_epochs_.erase(id);
+  }
+  // Its status is the next call's too (a lost lease refuses the finish as it refused a beat).
+  (void)stream->Close(timeout_);
+}
+
 core::Result<bool> RemoteLedger::Heartbeat(const std::string& id, std::int64_t epoch,
                                            std::chrono::milliseconds lease) {
-  v1::HeartbeatRequest request;
-  SetLease(id, epoch, request.mutable_lease());
-  request.set_lease_ms(LeaseMs(lease));
-  v1::HeartbeatResponse response;
-  SEEP_RETURN_IF_ERROR(
-      FromGrpcStatus("Heartbeat", stub_->Heartbeat(Context(timeout_).get(), request, &response)));
-  return response.cancel_requested();
+  return Beat(id, epoch, lease, nullptr);
 }
 
 core::Status RemoteLedger::UpdateProgress(const std::string& id, std::int64_t epoch,
                                           const JobProgress& progress) {
-  v1::ReportProgressRequest request;
-  SetLease(id, epoch, request.mutable_lease());
-  ProgressToProto(progress, request.mutable_progress());
-  v1::ReportProgressResponse response;
-  return FromGrpcStatus("ReportProgress",
-                        stub_->ReportProgress(Context(timeout_).get(), request, &response));
+  v1::Progress message;
+  ProgressToProto(progress, &message);
+  // lease 0: progress only; the heartbeats renew the lease.
+  return Beat(id, epoch, std::chrono::milliseconds(0), &message).status();
 }
 
 core::Status RemoteLedger::AddEvent(const std::string& id, std::int64_t epoch,
@@ -230,6 +276,7 @@ core::Status RemoteLedger::Finish(const std::string& id, std::int64_t epoch, Job
                                   const std::string& error_code, const std::string& error_message,
                                   const std::vector<std::pair<std::string, double>>& metrics,
                                   double wall_time_s) {
+  CloseStream(id, epoch);
   v1::FinishJobRequest request;
   SetLease(id, epoch, request.mutable_lease());
   request.set_state(JobStateToProto(state));
@@ -246,6 +293,7 @@ core::Status RemoteLedger::Finish(const std::string& id, std::int64_t epoch, Job
 }
 
 core::Status RemoteLedger::ReleaseLease(const std::string& id, std::int64_t epoch) {
+  CloseStream(id, epoch);
   v1::ReturnJobRequest request;
   SetLease(id, epoch, request.mutable_lease());
   v1::ReturnJobResponse response;
