@@ -10,7 +10,7 @@
 // each with its figures, limit and PASS/MISS. Exit status 0 when both parts pass.
 //
 //   seep_coordinator_bench [--part all|load|throughput] [--load-seconds 30] [--workers 100]
-//                          [--queued 10000] [--sweep-jobs 1000] [--lanes 2]
+//                          [--queued 10000] [--sweep-jobs 1000] [--lanes 2] [--sweep-on both]
 //                          [--sweep-columns 40] [--sweep-rows 40] [--sweep-end-time-s 3.1484e-3]
 //                          [--dir PATH] [--keep]
 #include "coordinator_bench.h"
@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--sweep-jobs", options.sweep_jobs, "2. jobs of the sweep")
       ->check(CLI::Range(1, 10'000))
+      ->capture_default_str();
+  app.add_option("--sweep-on", options.sweep_on,
+                 "2. local (seepd's own workers), remote (seep-worker processes) or both")
+      ->check(CLI::IsMember({"local", "remote", "both"}))
       ->capture_default_str();
   app.add_option("--lanes", options.lanes,
                  "2. seep-worker processes (one worker each), and as many in-process lanes")

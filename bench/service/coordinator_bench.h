@@ -26,7 +26,7 @@ struct CoordinatorOptions {
   int queued_jobs = 10'000;
   int simulated_workers = 100;
   double heartbeat_s = 1.0;     // between two heartbeats of a simulated worker's job
-  int heartbeats_per_job = 5;   // then it finishes the job and claims the next
+  int heartbeats_per_job = 60;  // then it finishes the job and claims the next (1-minute jobs)
   double warmup_s = 5.0;        // before the measured window: every worker holds a job
   double load_seconds = 30.0;   // the measured window
   double floor_seconds = 10.0;  // then the same call rate of trivial calls (0: skipped)
@@ -36,6 +36,9 @@ struct CoordinatorOptions {
   // 2. Sweep throughput.
   int sweep_jobs = 1000;
   int lanes = 2;  // seep-worker processes of one worker each; as many in-process lanes
+  // Where the service runs the sweep: "local" (seepd's own workers, `lanes` of them: the issue's
+  // "local workers"), "remote" (a pure coordinator and `lanes` seep-worker processes), or "both".
+  std::string sweep_on = "both";
   std::uint32_t sweep_columns = 40;
   std::uint32_t sweep_rows = 40;
   double sweep_end_time_s = 3.1484e-3;  // about 1,500 explicit steps

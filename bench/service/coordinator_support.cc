@@ -2,6 +2,7 @@
 // (coordinator_bench.h).
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -14,8 +15,12 @@ Seepd::Seepd(const CoordinatorOptions& options, const std::string& name,
     : output_(options.dir / (name + ".out")) {
   const std::filesystem::path port_file = options.dir / (name + ".port");
   std::vector<std::string> argv = {
-      options.seepd, "--listen",         "127.0.0.1:0", "--data-dir", (options.dir / name).string(),
-      "--port-file", port_file.string(), "--workers",   "0"};
+      options.seepd, "--listen",        "127.0.0.1:0", "--data-dir", (options.dir / name).string(),
+      "--port-file", port_file.string()};
+  // A pure coordinator unless `extra` gives seepd workers of its own.
+  if (std::find(extra.begin(), extra.end(), "--workers") == extra.end()) {
+    argv.insert(argv.end(), {"--workers", "0"});
+  }
   argv.insert(argv.end(), extra.begin(), extra.end());
   process_ = ChildProcess(argv, output_);
   port_ = process_.started() ? WaitForPortFile(port_file) : -1;

@@ -39,7 +39,9 @@ class JobLedger {
   // lasts `lease` (the ledger's clock), or nullopt when none is queued.
   virtual core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
                                                        std::chrono::milliseconds lease) = 0;
-  // Extends the lease by `lease` from now; true when a cancel of the job was requested.
+  // Renews the lease: afterwards it has at least half of `lease` to run (a ledger may keep an
+  // expiry that far ahead instead of writing now + lease at every renewal, so renew at least
+  // every half lease; the runner does every quarter). True when a cancel was requested.
   virtual core::Result<bool> Heartbeat(const std::string& id, std::int64_t epoch,
                                        std::chrono::milliseconds lease) = 0;
   virtual core::Status UpdateProgress(const std::string& id, std::int64_t epoch,

@@ -563,9 +563,21 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
 }
 
 Result<bool> JobStore::Heartbeat(const std::string& id, std::int64_t epoch,
-                                 std::int64_t expires_at_ms) {
+                                 std::int64_t expires_at_ms,
+                                 std::optional<std::int64_t> keep_beyond_ms) {
   const StoreOperation operation("renew a lease");
   std::lock_guard lock(mutex_);
+  if (keep_beyond_ms) {
+    SEEP_ASSIGN_OR_RETURN(Stmt read, db_->Prepare("SELECT cancel_requested, lease_expires_at_ms "
+                                                  "FROM jobs WHERE id = ? AND lease_epoch = ? "
+                                                  "AND state = 'RUNNING'"));
+    read.Bind(1, std::string_view(id)).Bind(2, epoch);
+    SEEP_ASSIGN_OR_RETURN(const bool row, read.Step());
+    if (!row) return LeaseLost(id, epoch);
+    if (!read.ColumnIsNull(1) && read.ColumnInt(1) >= *keep_beyond_ms) {
+      return read.ColumnInt(0) != 0;
+    }
+  }
   const RelaxedCommit relaxed(*db_);  // liveness only: a restart requeues RUNNING jobs
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare("UPDATE jobs SET lease_expires_at_ms = ? WHERE id = ? AND lease_epoch = "

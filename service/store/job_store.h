@@ -113,8 +113,12 @@ class JobStore {
       const std::optional<WorkerPlacement>& placement = std::nullopt);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
   // over (or whose job is no longer RUNNING) gets ABORTED and must stop the job.
-  // Heartbeat extends the lease and returns whether a cancel was requested.
-  Result<bool> Heartbeat(const std::string& id, std::int64_t epoch, std::int64_t expires_at_ms);
+  // Heartbeat extends the lease to expires_at_ms and returns whether a cancel was requested.
+  // With keep_beyond_ms, a stored expiry at or beyond it is kept and nothing is written (the
+  // lease is still checked): renewals every second of a lease of minutes then cost a read, not
+  // a write, a second.
+  Result<bool> Heartbeat(const std::string& id, std::int64_t epoch, std::int64_t expires_at_ms,
+                         std::optional<std::int64_t> keep_beyond_ms = std::nullopt);
   Status UpdateProgress(const std::string& id, std::int64_t epoch, const JobProgress& progress);
   // Moves the RUNNING job to a terminal state with its metrics, in one transaction; a metric
   // that is not finite is INVALID_ARGUMENT (nothing written). A job that ends other than

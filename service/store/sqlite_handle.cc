@@ -117,15 +117,41 @@ Result<Db> Db::Open(const std::string& path) {
   return db;
 }
 
+void Stmt::Release::operator()(sqlite3_stmt* s) const noexcept {
+  if (in_use == nullptr) {
+    sqlite3_finalize(s);
+    return;
+  }
+  // Reset also ends the read the statement may hold open (a WAL checkpoint would wait for it).
+  sqlite3_reset(s);
+  sqlite3_clear_bindings(s);
+  in_use->store(false);
+}
+
+Db::Cache::~Cache() {
+  for (auto& [sql, cached] : by_sql) sqlite3_finalize(cached->stmt);
+}
+
 Result<Stmt> Db::Prepare(std::string_view sql) {
+  const auto found = cache_.by_sql.find(std::string(sql));
+  if (found != cache_.by_sql.end() && !found->second->in_use.exchange(true)) {
+    return Stmt(db_.get(), found->second->stmt, &found->second->in_use);
+  }
+  const bool cache = found == cache_.by_sql.end() && cache_.by_sql.size() < kCachedStatements;
   sqlite3_stmt* raw = nullptr;
-  const int rc =
-      sqlite3_prepare_v2(db_.get(), sql.data(), static_cast<int>(sql.size()), &raw, nullptr);
+  const int rc = sqlite3_prepare_v3(db_.get(), sql.data(), static_cast<int>(sql.size()),
+                                    cache ? SQLITE_PREPARE_PERSISTENT : 0, &raw, nullptr);
   if (rc != SQLITE_OK) {
     sqlite3_finalize(raw);
     return SqliteError(db_.get(), rc, "prepare", sql);
   }
-  return Stmt(db_.get(), raw);
+  if (!cache || raw == nullptr) return Stmt(db_.get(), raw);  // raw null: only a comment
+  auto cached = std::make_unique<Cached>();
+  cached->stmt = raw;
+  cached->in_use = true;
+  std::atomic<bool>* in_use = &cached->in_use;
+  cache_.by_sql.emplace(std::string(sql), std::move(cached));
+  return Stmt(db_.get(), raw, in_use);
 }
 
 Status Db::Exec(const std::string& sql) {
@@ -134,27 +160,32 @@ Status Db::Exec(const std::string& sql) {
   return Status::Ok();
 }
 
+Status Db::Run(std::string_view sql) {
+  SEEP_ASSIGN_OR_RETURN(Stmt stmt, Prepare(sql));
+  return stmt.Run();
+}
+
 Result<WriteTx> WriteTx::Begin(Db& db) {
-  SEEP_RETURN_IF_ERROR(db.Exec("BEGIN IMMEDIATE"));
+  SEEP_RETURN_IF_ERROR(db.Run("BEGIN IMMEDIATE"));
   return WriteTx(&db);
 }
 
 WriteTx::~WriteTx() {
-  if (db_ != nullptr) (void)db_->Exec("ROLLBACK");
+  if (db_ != nullptr) (void)db_->Run("ROLLBACK");
 }
 
 Status WriteTx::Commit() {
   if (db_ == nullptr) return core::Internal("store: transaction already finished");
-  Status s = db_->Exec("COMMIT");
+  Status s = db_->Run("COMMIT");
   if (s.ok()) db_ = nullptr;
   return s;
 }
 
 RelaxedCommit::RelaxedCommit(Db& db) : db_(db) {
   // A failure leaves FULL in place: the safe direction.
-  (void)db_.Exec("PRAGMA synchronous=NORMAL");
+  (void)db_.Run("PRAGMA synchronous=NORMAL");
 }
 
-RelaxedCommit::~RelaxedCommit() { (void)db_.Exec("PRAGMA synchronous=FULL"); }
+RelaxedCommit::~RelaxedCommit() { (void)db_.Run("PRAGMA synchronous=FULL"); }
 
 }  // namespace seep::service

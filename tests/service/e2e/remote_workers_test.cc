@@ -339,7 +339,7 @@ TEST_F(RemoteWorkers, BadWorkerCallsAreRefusedNamingTheFieldAndKeepNothing) {
 }
 
 // KeepLease, the stream seep-worker beats on: beats renew the lease (a job leased for 2 s stays
-// RUNNING, never rescued, through 4 s of beats a second) and carry progress; a pending cancel is
+// RUNNING, never rescued, through 4 s of beats every 0.5 s) and carry progress; a pending cancel is
 // news, once; a beat of a lost lease ends the stream ABORTED naming the epoch, one naming another
 // lease INVALID_ARGUMENT, a renewal of 0 ms without progress INVALID_ARGUMENT naming lease_ms.
 TEST_F(RemoteWorkers, KeepLeaseBeatsRenewTheLeaseCarryProgressAndEndOnALostLease) {
@@ -370,13 +370,15 @@ TEST_F(RemoteWorkers, KeepLeaseBeatsRenewTheLeaseCarryProgressAndEndOnALostLease
     grpc::ClientContext ctx;
     deadline(ctx);
     auto stream = worker_stub_->KeepLease(&ctx);
-    for (std::uint64_t i = 1; i <= 4; ++i) {
+    // A beat every quarter lease, as the runner's heartbeats come (seepd rewrites the expiry
+    // only once less than half a lease is left).
+    for (std::uint64_t i = 1; i <= 8; ++i) {
       ASSERT_TRUE(stream->Write(beat(id, 1, 2000, 100 * i)));
-      std::this_thread::sleep_for(std::chrono::seconds(1));
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
     }
     const v1::Job job = Get(id);
     EXPECT_EQ(job.state(), v1::JOB_STATE_RUNNING) << "the beats did not keep the 2 s lease";
-    EXPECT_EQ(job.progress().step(), 400u);
+    EXPECT_EQ(job.progress().step(), 800u);
     for (const auto& e : Events(id)) EXPECT_NE(e.kind(), "RESCUED");
 
     // A cancel: the next beat's answer says so, and only once.
@@ -432,7 +434,7 @@ TEST_F(RemoteWorkers, KeepLeaseBeatsRenewTheLeaseCarryProgressAndEndOnALostLease
             std::string::npos)
       << empty.error_message();
   // The refused beats kept nothing: the progress is still the stream's last.
-  EXPECT_EQ(Get(id).progress().step(), 400u);
+  EXPECT_EQ(Get(id).progress().step(), 800u);
 }
 
 TEST_F(RemoteWorkers, ATokenIsRequiredAndASigtermedWorkerGivesItsJobBack) {

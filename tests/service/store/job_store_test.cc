@@ -220,6 +220,29 @@ TEST_F(JobStoreTest, CancelQueuedIsImmediateAndTerminalOrUnknownJobsAreRefused) 
   EXPECT_EQ(store_->Cancel("missing", 1).status().code(), core::StatusCode::kNotFound);
 }
 
+// A renewal with keep_beyond_ms keeps a stored expiry that far ahead (nothing written) and writes
+// the new one otherwise; either way the lease is checked and a pending cancel is said.
+TEST_F(JobStoreTest, ARenewalKeepsAnExpiryFarEnoughAheadAndStillChecksTheLease) {
+  ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
+  const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 1000))->lease_epoch;
+  ASSERT_EQ(store_->Get("a")->lease_expires_at_ms, 1100);
+  // Stored 1100 >= 1050: kept.
+  EXPECT_FALSE(*store_->Heartbeat("a", epoch, 1500, 1050));
+  EXPECT_EQ(store_->Get("a")->lease_expires_at_ms, 1100);
+  // Stored 1100 < 1150: the new expiry is written.
+  EXPECT_FALSE(*store_->Heartbeat("a", epoch, 1600, 1150));
+  EXPECT_EQ(store_->Get("a")->lease_expires_at_ms, 1600);
+  EXPECT_EQ(store_->Heartbeat("a", epoch + 1, 1700, 1000).status().code(),
+            core::StatusCode::kAborted);
+  ASSERT_TRUE(store_->Cancel("a", 1200).ok());
+  EXPECT_TRUE(*store_->Heartbeat("a", epoch, 1700, 1000));  // kept, and the cancel said
+  EXPECT_EQ(store_->Get("a")->lease_expires_at_ms, 1600);
+  // A released lease (no expiry) is always written.
+  ASSERT_TRUE(store_->ReleaseLease("a", epoch).ok());
+  EXPECT_TRUE(*store_->Heartbeat("a", epoch, 1800, 1000));
+  EXPECT_EQ(store_->Get("a")->lease_expires_at_ms, 1800);
+}
+
 TEST_F(JobStoreTest, CancelRunningIsRecordedByTheLeaseHolder) {
   ASSERT_TRUE(store_->Insert(NewJob("a")).ok());
   const std::int64_t epoch = (*store_->ClaimNextQueued("w", 100, 30))->lease_epoch;
