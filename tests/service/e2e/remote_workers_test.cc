@@ -458,6 +458,24 @@ TEST_F(RemoteWorkers, ATokenIsRequiredAndASigtermedWorkerGivesItsJobBack) {
   EXPECT_EQ(steady_.Stop(SIGTERM), 0);
   EXPECT_EQ(Get(id).state(), v1::JOB_STATE_QUEUED);
   EXPECT_NE(ReadFile(dir_ / "tokenless-1.out").find("UNAUTHENTICATED"), std::string::npos);
+  // The lease stream too (authenticated once, when it opens).
+  {
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    auto stream = worker_stub_->KeepLease(&ctx);
+    v1::LeaseBeat beat;
+    beat.mutable_lease()->set_job_id(id);
+    beat.mutable_lease()->set_lease_epoch(1);
+    beat.set_lease_ms(2000);
+    (void)stream->Write(beat);
+    stream->WritesDone();
+    v1::LeaseNews news;
+    while (stream->Read(&news)) {
+    }
+    const grpc::Status refused = stream->Finish();
+    EXPECT_EQ(refused.error_code(), grpc::StatusCode::UNAUTHENTICATED) << refused.error_message();
+    EXPECT_EQ(Get(id).state(), v1::JOB_STATE_QUEUED);
+  }
 
   // With it (the CLI's --token-file), it runs the job; SIGTERM checkpoints the job and gives it
   // back, and the coordinator queues it again for the next worker, which continues from there.
