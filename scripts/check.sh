@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # README command 2 (and what .ci/run runs): install; the sanitizer builds (AddressSanitizer, with
 # UBSan on the core: the core, service and client tests; ThreadSanitizer: the `concurrency`
-# tests), each -O1 and building only the targets its tests need; then the Release build with warnings as
-# errors and the whole suite with CTest (format check included). Each stage prints its time.
+# tests), each -O1 and building only the targets its tests need; then the Release build with
+# warnings as errors and the whole suite with CTest (format check included). Each stage prints
+# its time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

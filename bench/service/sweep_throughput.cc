@@ -170,8 +170,8 @@ std::optional<ServiceRun> RunOnWorkers(const CoordinatorOptions& options, const 
   v1::GetSweepResponse response;
   if (!stub->GetSweep(&ctx, request, &response).ok()) return std::nullopt;
   run.jobs.assign(response.sweep().jobs().begin(), response.sweep().jobs().end());
-  for (const v1::SweepJob& job : run.jobs) {
-    if (local) {
+  if (local) {  // timed from the sweep's stored, or its first start if that came first
+    for (const v1::SweepJob& job : run.jobs) {
       launch_ms = std::min(launch_ms, TimeUtil::TimestampToMilliseconds(job.job().started_at()));
     }
   }

@@ -122,56 +122,53 @@ grpc::Status WorkerServiceImpl::ClaimJob(Ctx* ctx, const v1::ClaimJobRequest* re
   });
 }
 
+core::Result<bool> WorkerServiceImpl::Renew(const v1::LeaseRef& lease, std::uint32_t lease_ms) {
+  SEEP_RETURN_IF_ERROR(CheckLeaseMs(lease_ms));
+  bool cancel = false;
+  SEEP_RETURN_IF_ERROR(FencedWrite(lease, "lease", [&]() -> core::Status {
+    SEEP_ASSIGN_OR_RETURN(cancel, ledger_.Heartbeat(lease.job_id(), lease.lease_epoch(),
+                                                    std::chrono::milliseconds(lease_ms)));
+    return core::Status::Ok();
+  }));
+  return cancel;
+}
+
+core::Status WorkerServiceImpl::StoreProgress(const v1::LeaseRef& lease,
+                                              const v1::Progress& message) {
+  const JobProgress progress = ProgressFromProto(message);
+  SEEP_RETURN_IF_ERROR(FencedWrite(lease, "lease", [&] {
+    return ledger_.UpdateProgress(lease.job_id(), lease.lease_epoch(), progress);
+  }));
+  hub_.Publish(lease.job_id(), progress);
+  return core::Status::Ok();
+}
+
 grpc::Status WorkerServiceImpl::Heartbeat(Ctx* ctx, const v1::HeartbeatRequest* request,
                                           v1::HeartbeatResponse* response) {
   return Guarded(ctx, "Heartbeat", [&]() -> core::Status {
-    SEEP_RETURN_IF_ERROR(CheckLeaseMs(request->lease_ms()));
-    return FencedWrite(request->lease(), "lease", [&]() -> core::Status {
-      SEEP_ASSIGN_OR_RETURN(
-          const bool cancel,
-          ledger_.Heartbeat(request->lease().job_id(), request->lease().lease_epoch(),
-                            std::chrono::milliseconds(request->lease_ms())));
-      response->set_cancel_requested(cancel);
-      return core::Status::Ok();
-    });
+    SEEP_ASSIGN_OR_RETURN(const bool cancel, Renew(request->lease(), request->lease_ms()));
+    response->set_cancel_requested(cancel);
+    return core::Status::Ok();
   });
 }
 
 grpc::Status WorkerServiceImpl::ReportProgress(Ctx* ctx, const v1::ReportProgressRequest* request,
                                                v1::ReportProgressResponse*) {
-  return Guarded(ctx, "ReportProgress", [&]() -> core::Status {
-    const JobProgress progress = ProgressFromProto(request->progress());
-    SEEP_RETURN_IF_ERROR(FencedWrite(request->lease(), "lease", [&] {
-      return ledger_.UpdateProgress(request->lease().job_id(), request->lease().lease_epoch(),
-                                    progress);
-    }));
-    hub_.Publish(request->lease().job_id(), progress);
-    return core::Status::Ok();
-  });
+  return Guarded(ctx, "ReportProgress",
+                 [&] { return StoreProgress(request->lease(), request->progress()); });
 }
 
 core::Result<bool> WorkerServiceImpl::Beat(const v1::LeaseBeat& beat) {
   if (beat.lease_ms() == 0 && !beat.has_progress()) {
     return core::InvalidArgument(
-        "lease_ms: a beat without progress renews the lease: 500 .. 86400000 ms (got 0)");
+        fmt::format("lease_ms: a beat without progress renews the lease: {} .. {} ms (got 0)",
+                    kMinLeaseMs, kMaxLeaseMs));
   }
   bool cancel = false;
   if (beat.lease_ms() != 0) {
-    SEEP_RETURN_IF_ERROR(CheckLeaseMs(beat.lease_ms()));
-    SEEP_RETURN_IF_ERROR(FencedWrite(beat.lease(), "lease", [&]() -> core::Status {
-      SEEP_ASSIGN_OR_RETURN(cancel,
-                            ledger_.Heartbeat(beat.lease().job_id(), beat.lease().lease_epoch(),
-                                              std::chrono::milliseconds(beat.lease_ms())));
-      return core::Status::Ok();
-    }));
+    SEEP_ASSIGN_OR_RETURN(cancel, Renew(beat.lease(), beat.lease_ms()));
   }
-  if (beat.has_progress()) {
-    const JobProgress progress = ProgressFromProto(beat.progress());
-    SEEP_RETURN_IF_ERROR(FencedWrite(beat.lease(), "lease", [&] {
-      return ledger_.UpdateProgress(beat.lease().job_id(), beat.lease().lease_epoch(), progress);
-    }));
-    hub_.Publish(beat.lease().job_id(), progress);
-  }
+  if (beat.has_progress()) SEEP_RETURN_IF_ERROR(StoreProgress(beat.lease(), beat.progress()));
   return cancel;
 }
 

@@ -68,8 +68,12 @@ class WorkerServiceImpl final
   // (heartbeats, progress) cost one statement instead of that and five reads of the job.
   core::Status FencedWrite(const v1::LeaseRef& lease, const char* field,
                            const std::function<core::Status()>& write);
-  // One beat of a KeepLease stream: Heartbeat's checks and write, then ReportProgress's when the
-  // beat carries progress. True when a cancel of the job is pending.
+  // A renewal of the lease by lease_ms (Heartbeat, and a beat): true when a cancel is pending.
+  core::Result<bool> Renew(const v1::LeaseRef& lease, std::uint32_t lease_ms);
+  // The job's live progress stored and published to its followers (ReportProgress, and a beat).
+  core::Status StoreProgress(const v1::LeaseRef& lease, const v1::Progress& progress);
+  // One beat of a KeepLease stream: Renew, then StoreProgress when the beat carries progress.
+  // True when a cancel of the job is pending.
   core::Result<bool> Beat(const v1::LeaseBeat& beat);
   // The checkpoint upload after its first message: chunks read, checked and kept.
   grpc::Status ReceiveCheckpoint(grpc::ServerReader<v1::UploadCheckpointRequest>& reader,

@@ -17,14 +17,13 @@ LeaseStream::LeaseStream(v1::WorkerService::Stub& stub, std::unique_ptr<grpc::Cl
     : ctx_(std::move(ctx)),
       stream_(stub.KeepLease(ctx_.get())),
       lease_(std::move(lease)),
-      reader_finished_(reader_done_.get_future().share()) {
+      reader_done_(reader_end_.get_future()) {
   reader_ = std::thread([this] {
     v1::LeaseNews news;
     while (stream_->Read(&news)) {
       if (news.cancel_requested()) cancel_requested_ = true;
     }
-    read_ended_ = true;
-    reader_done_.set_value();
+    reader_end_.set_value();
   });
 }
 
@@ -35,7 +34,7 @@ LeaseStream::~LeaseStream() {
 
 core::Status LeaseStream::Finished() {
   if (!final_) {
-    reader_finished_.wait();
+    reader_done_.wait();
     final_ = FromGrpcStatus("KeepLease", stream_->Finish());
     // A stream that ended OK before the worker closed it was not ended by the worker: seepd went
     // away cleanly (its shutdown). The lease is no longer kept.
@@ -51,7 +50,7 @@ core::Result<bool> LeaseStream::Beat(std::uint32_t lease_ms, const v1::Progress*
   if (writes_done_) {
     return core::FailedPrecondition("WorkerService.KeepLease: the stream was closed");
   }
-  if (!read_ended_) {
+  if (!ReadEnded()) {
     v1::LeaseBeat beat;
     *beat.mutable_lease() = lease_;
     beat.set_lease_ms(lease_ms);
@@ -65,9 +64,9 @@ core::Result<bool> LeaseStream::Beat(std::uint32_t lease_ms, const v1::Progress*
 core::Status LeaseStream::Close(std::chrono::milliseconds timeout) {
   std::lock_guard lock(write_mutex_);
   if (final_) return *final_;
-  if (!writes_done_ && !read_ended_) stream_->WritesDone();
+  if (!writes_done_ && !ReadEnded()) stream_->WritesDone();
   writes_done_ = true;
-  if (reader_finished_.wait_for(timeout) != std::future_status::ready) ctx_->TryCancel();
+  if (reader_done_.wait_for(timeout) != std::future_status::ready) ctx_->TryCancel();
   return Finished();
 }
 

@@ -37,8 +37,12 @@ class LeaseStream {
   // Ends the stream (WritesDone) and waits, at most `timeout`, for seepd to end it: every beat
   // written was then handled. The stream's status (cancelled when seepd did not answer in time).
   core::Status Close(std::chrono::milliseconds timeout);
+  std::int64_t lease_epoch() const { return lease_.lease_epoch(); }
 
  private:
+  bool ReadEnded() const {
+    return reader_done_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  }
   // The status the stream ended with (called with write_mutex_ held, once reading has ended).
   core::Status Finished();
 
@@ -47,9 +51,8 @@ class LeaseStream {
   v1::LeaseRef lease_;
   std::mutex write_mutex_;
   std::atomic<bool> cancel_requested_{false};
-  std::atomic<bool> read_ended_{false};
-  std::promise<void> reader_done_;
-  std::shared_future<void> reader_finished_;
+  std::promise<void> reader_end_;
+  std::future<void> reader_done_;  // ready once the reader saw the stream's end
   std::thread reader_;
   bool writes_done_ = false;           // guarded by write_mutex_
   std::optional<core::Status> final_;  // guarded by write_mutex_

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 
 #include "codec/job_codec.h"
 #include "codec/worker_codec.h"
@@ -106,6 +107,7 @@ core::Result<bool> RemoteLedger::Beat(const std::string& id, std::int64_t epoch,
                                       std::chrono::milliseconds lease,
                                       const v1::Progress* progress) {
   std::shared_ptr<LeaseStream> stream;
+  std::shared_ptr<LeaseStream> replaced;  // of an older epoch: closed outside the lock
   {
     std::lock_guard lock(streams_mutex_);
     if (const auto closed = closed_epochs_.find(id);
@@ -114,26 +116,22 @@ core::Result<bool> RemoteLedger::Beat(const std::string& id, std::int64_t epoch,
           "WorkerService.KeepLease: the lease of job {} (epoch {}) ended with the job's finish", id,
           epoch));
     }
-    auto it = streams_.find(id);
-    if (it == streams_.end() || stream_epochs_[id] != epoch) {
+    std::shared_ptr<LeaseStream>& slot = streams_[id];
+    if (slot == nullptr || slot->lease_epoch() != epoch) {
       auto ctx = std::make_unique<grpc::ClientContext>();
       if (prepare_) prepare_(ctx.get());
       v1::LeaseRef ref;
       SetLease(id, epoch, &ref);
-      streams_[id] = std::make_shared<LeaseStream>(*stub_, std::move(ctx), std::move(ref));
-      stream_epochs_[id] = epoch;
-      it = streams_.find(id);
+      replaced = std::exchange(
+          slot, std::make_shared<LeaseStream>(*stub_, std::move(ctx), std::move(ref)));
     }
-    stream = it->second;
+    stream = slot;
   }
   auto cancel = stream->Beat(LeaseMs(lease), progress);
   if (!cancel.ok()) {
     std::lock_guard lock(streams_mutex_);
     const auto it = streams_.find(id);
-    if (it != streams_.end() && it->second == stream) {
-      streams_.erase(it);
-      stream_epochs_.erase(id);
-    }
+    if (it != streams_.end() && it->second == stream) streams_.erase(it);
   }
   return cancel;
 }
@@ -148,7 +146,6 @@ void RemoteLedger::CloseStream(const std::string& id, std::int64_t epoch) {
     if (it == streams_.end()) return;
     stream = std::move(it->second);
     streams_.erase(it);
-    stream_epochs_.erase(id);
   }
   // Its status is the next call's too (a lost lease refuses the finish as it refused a beat).
   (void)stream->Close(timeout_);

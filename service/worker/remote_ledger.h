@@ -69,7 +69,6 @@ class RemoteLedger final : public JobLedger {
   std::optional<WorkerPlacement> placement_;
   std::mutex streams_mutex_;
   std::map<std::string, std::shared_ptr<LeaseStream>> streams_;  // by job id
-  std::map<std::string, std::int64_t> stream_epochs_;            // the lease epoch of each
   // The leases whose stream was closed for the job's end: a heartbeat racing the end (the runner
   // stops beating a job only after finishing it) gets ABORTED instead of opening a new stream.
   // Forgotten wholesale past kClosedLeasesKept entries: that race lasts a heartbeat, not a job.
