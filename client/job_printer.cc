@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string_view>
 
 namespace seep::client {
 namespace {
@@ -75,6 +76,29 @@ std::string FormatJob(const v1::Job& job) {
     const std::map<std::string, double> metrics(job.result().metrics().begin(),
                                                 job.result().metrics().end());
     for (const auto& [name, value] : metrics) out += fmt::format("  {:<28} {:.9g}\n", name, value);
+    out += FormatAccuracyWarnings(metrics);
+  }
+  return out;
+}
+
+std::string FormatAccuracyWarnings(const std::map<std::string, double>& metrics) {
+  // A metric X_safe_above carries the bound below which the accuracy bench measured more than
+  // 5 % error for the number X beside it (seep::core::MeasureCouplingNumbers): the client warns
+  // without knowing the physics, and a stage's copy ("stage2_X") warns for that stage.
+  constexpr std::string_view kSuffix = "_safe_above";
+  std::string out;
+  for (const auto& [name, bound] : metrics) {
+    if (name.size() <= kSuffix.size() ||
+        name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0) {
+      continue;
+    }
+    const std::string number = name.substr(0, name.size() - kSuffix.size());
+    const auto it = metrics.find(number);
+    if (it == metrics.end() || !(it->second < bound)) continue;
+    out += fmt::format(
+        "warning   {} = {:.3g} is below {:g}: the accuracy bench measured more than 5 % error "
+        "against real water there (docs/accuracy.md, \"Coupled runs\")\n",
+        number, it->second, bound);
   }
   return out;
 }
@@ -95,6 +119,7 @@ std::string FormatResult(const v1::JobResult& result) {
   const std::map<std::string, double> metrics(result.metrics().begin(), result.metrics().end());
   for (const auto& [name, value] : metrics) out += fmt::format("{:<28} {:.9g}\n", name, value);
   out += fmt::format("{:<28} {:.3f}\n", "wall_time_s", result.wall_time_s());
+  out += FormatAccuracyWarnings(metrics);
   return out;
 }
 

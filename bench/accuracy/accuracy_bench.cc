@@ -34,6 +34,8 @@
 
 #include "accuracy_output.h"
 #include "accuracy_run.h"
+#include "consolidation_problem.h"
+#include "coupled_summary.h"
 #include "darcy_problem.h"
 #include "diffusion_problem.h"
 #include "pareto.h"
@@ -41,6 +43,7 @@
 #include "svg_chart.h"
 #include "terzaghi_problem.h"
 #include "thiem_problem.h"
+#include "undrained_problem.h"
 
 namespace {
 
@@ -57,6 +60,15 @@ struct Options {
   std::string only;  // empty: every problem
 };
 
+// --only's names: a problem, or "rigid" / "coupled" for a family.
+bool IsProblemName(const std::string& name) {
+  for (const char* known : {"diffusion", "darcy", "thiem", "terzaghi", "undrained", "consolidation",
+                            "rigid", "coupled"}) {
+    if (name == known) return true;
+  }
+  return false;
+}
+
 std::optional<Options> ParseArgs(int argc, char** argv) {
   Options o;
   bool have_csv = false;
@@ -66,9 +78,7 @@ std::optional<Options> ParseArgs(int argc, char** argv) {
       o.full = true;
     } else if (arg == "--only" && i + 1 < argc) {
       o.only = argv[++i];
-      if (o.only != "diffusion" && o.only != "darcy" && o.only != "thiem" && o.only != "terzaghi") {
-        return std::nullopt;
-      }
+      if (!IsProblemName(o.only)) return std::nullopt;
     } else if (arg == "--svg" && i + 1 < argc) {
       o.svg_path = argv[++i];
     } else if (arg == "--help" || arg == "-h" || (arg.rfind("--", 0) == 0) || have_csv) {
@@ -281,8 +291,10 @@ int main(int argc, char** argv) {
   }
   std::vector<AccuracyRun> rows;
   const seep::bench::DiffusionGrid diffusion = seep::bench::DefaultDiffusionGrid(options->full);
-  const auto wanted = [&](const char* problem) {
-    return options->only.empty() || options->only == problem;
+  const auto wanted = [&](const std::string& problem) {
+    const bool coupled = seep::bench::IsCoupledProblem(problem);
+    return options->only.empty() || options->only == problem ||
+           options->only == (coupled ? "coupled" : "rigid");
   };
   if (wanted("diffusion")) seep::bench::RunDiffusionGrid(diffusion, rows);
   if (wanted("darcy"))
@@ -291,6 +303,12 @@ int main(int argc, char** argv) {
     seep::bench::RunThiemGrid(seep::bench::DefaultThiemGrid(options->full), rows);
   if (wanted("terzaghi")) {
     seep::bench::RunTerzaghiGrid(seep::bench::DefaultTerzaghiGrid(options->full), rows);
+  }
+  if (wanted("undrained")) {
+    seep::bench::RunUndrainedGrid(seep::bench::DefaultUndrainedGrid(options->full), rows);
+  }
+  if (wanted("consolidation")) {
+    seep::bench::RunConsolidationGrid(seep::bench::DefaultConsolidationGrid(options->full), rows);
   }
 
   std::vector<std::size_t> all(rows.size());
@@ -309,6 +327,7 @@ int main(int argc, char** argv) {
       PrintFastestPerTarget(rows, problem);
     }
   }
+  seep::bench::PrintCoupledSummary(stdout, rows);
   PrintKfScaling(rows);
   PrintStorageInPhysicalTime(diffusion.times);
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,7 @@ namespace seep::bench {
 struct AccuracyRun {
   std::string problem;           // e.g. "diffusion_T0.2", "darcy", "thiem", "terzaghi"
   std::string solver;            // "explicit", "implicit" (BE), "cn", "steady" or "pending"
-  std::string storage;           // "apparent", "pore" or "-" (steady)
+  std::string storage;           // "apparent", "pore", "-" (steady) or "coupled"
   double dt_over_dt_crit = 0.0;  // 0 for steady
   int resolution = 0;            // domains along the sample (radially: across the annulus)
   std::int64_t domains = 0;      // free domains of the whole network
@@ -27,6 +28,13 @@ struct AccuracyRun {
   std::string error_kind;
   std::string note;      // free text without commas
   bool pending = false;  // a problem listed but not run (no numbers)
+  // Coupled problems only (coupled_grid.h); 0 / NaN elsewhere.
+  double dem_dt_safety = 0.0;          // contacts.dt_safety
+  std::uint32_t flow_every_asked = 0;  // FlowEffectSpec::every_steps (0 = automatic)
+  double flow_every = 0.0;             // DEM steps per flow update the run chose
+  double stiffness_ratio = 0.0;        // coupling_fluid_to_skeleton_stiffness, Pi_K
+  // The same measure against the same problem's run at real water (base choices, same size).
+  double real_water_error = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Crank–Nicolson (SolverKind::kCrankNicolson: ImplicitSolver at theta = 1/2).

@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "coupled_summary.h"
 #include "pareto.h"
 #include "plot/svg_chart.h"
 
@@ -41,6 +43,19 @@ plot::Style StyleOf(const std::string& solver, const std::string& storage) {
   return MakeStyle("steady", "#2ca02c", plot::Marker::kDiamond);
 }
 
+// Coupled rows: a colour per K_f (real water to scaled), a marker per solver.
+plot::Style CoupledStyleOf(const AccuracyRun& r) {
+  static const char* const kColours[] = {"#1f77b4", "#2ca02c", "#ff7f0e", "#d62728", "#9467bd"};
+  static const double kBulk[] = {2.2e9, 2.2e8, 2.2e7, 4e6, 1e6};
+  std::size_t k = 0;
+  while (k + 1 < std::size(kBulk) && r.bulk_modulus_pa < kBulk[k] * 0.999) ++k;
+  plot::Style s;
+  s.label = fmt::format("K_f = {:.2g} Pa, {}", r.bulk_modulus_pa, r.solver);
+  s.colour = kColours[k];
+  s.marker = r.solver == "explicit" ? plot::Marker::kSquare : plot::Marker::kTriangle;
+  return s;
+}
+
 plot::Style FrontStyle() {
   plot::Style s = MakeStyle("Pareto front", "#000000", plot::Marker::kNone);
   s.line = true;
@@ -60,7 +75,12 @@ plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& p
   panel.y.scale = plot::Scale::kLog10;
   panel.empty_note = "no run produced a finite error";
   const bool transient = problem.rfind("diffusion", 0) == 0 || problem == "terzaghi";
-  if (transient) {
+  if (IsCoupledProblem(problem)) {
+    panel.y.include_min = 1e-3;
+    panel.y.include_max = 1.0;
+    panel.rules.push_back({0.01, "1% error"});
+    panel.rules.push_back({0.05, "5% error"});
+  } else if (transient) {
     panel.y.include_min = 1e-3;
     panel.y.include_max = 0.1;
     panel.rules.push_back({0.01, "1% error"});
@@ -74,7 +94,7 @@ plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& p
           (resolution >= 0 && r.resolution != resolution) || IsPfcScheme(r) != pfc) {
         continue;
       }
-      plot::Style style = StyleOf(r.solver, r.storage);
+      plot::Style style = r.storage == "coupled" ? CoupledStyleOf(r) : StyleOf(r.solver, r.storage);
       style.marker_size = pfc ? 5.0 : 3.5;
       auto it = std::find_if(by_style.begin(), by_style.end(),
                              [&](const plot::Series& s) { return s.style.label == style.label; });
@@ -119,14 +139,17 @@ core::Status WriteSvgChart(const std::string& path, const std::vector<AccuracyRu
         MakePanel(rows, last_diffusion, finest,
                   fmt::format("{}, {} domains along only", last_diffusion, finest)));
   }
-  plot::Style pfc = StyleOf("explicit", "apparent");
-  pfc.marker_size = 5.0;
-  chart.legend = {pfc,
-                  StyleOf("explicit", "pore"),
-                  StyleOf("implicit", "pore"),
-                  StyleOf(kCrankNicolsonLabel, "pore"),
-                  StyleOf("steady", "-"),
-                  FrontStyle()};
+  // The legend: each style drawn, in order of first use, and the front.
+  for (const plot::Panel& panel : chart.panels) {
+    for (const plot::Series& series : panel.series) {
+      if (series.style.label == FrontStyle().label) continue;
+      const bool listed =
+          std::any_of(chart.legend.begin(), chart.legend.end(),
+                      [&](const plot::Style& s) { return s.label == series.style.label; });
+      if (!listed) chart.legend.push_back(series.style);
+    }
+  }
+  chart.legend.push_back(FrontStyle());
   if (const std::string error = plot::WriteSvgFile(path, plot::RenderSvg(chart)); !error.empty()) {
     return core::InvalidArgument(error);
   }

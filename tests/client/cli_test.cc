@@ -3,6 +3,7 @@
 // pipe (plain progress lines) and once a pseudo-terminal (the redrawn progress bar).
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 #include "seepd_fixture.h"
@@ -31,6 +32,73 @@ constexpr const char* kEndlessScene = R"pb(
   aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 gap_multiplier: 0.5 }
   boundary { axis: FLOW_AXIS_X inlet_pressure_pa: 1e5 }
   solver { kind: SOLVER_KIND_EXPLICIT storage: STORAGE_VOLUME_PORE dt_factor: 0.9 end_time_s: 1e6 }
+)pb";
+
+// A sealed hex-lattice sample squeezed by four servo walls (the accuracy bench's undrained
+// problem, 14 x 12): its fluid's storage stiffness K_f / n_s against the skeleton's bulk modulus
+// (~7.4e6 Pa affine) is Pi_K = K_f / (0.14 x 7.4e6). K_f = 1e6 gives Pi_K ~ 0.96, where the bench
+// measured 46 % error against real water; 2.2e8 gives ~212 (0.35 %). Format: K_f.
+constexpr const char* kSealedSampleScene = R"pb(
+  name: "cli-sealed"
+  packing {
+    lattice { kind: LATTICE_KIND_HEX columns: 14 rows: 12 radius_m: 1e-3 }
+    contact_gap_m: 1e-6
+  }
+  fluid { viscosity_pa_s: 7.5e-7 bulk_modulus_pa: %g }
+  aperture { residual_aperture_m: 1e-5 reference_force_n: 1e3 }
+  boundary { initial_pressure_pa: 0 }
+  solver {
+    kind: SOLVER_KIND_IMPLICIT
+    storage: STORAGE_VOLUME_APPARENT
+    storage_factor: 0.14
+    dt_factor: 1e6
+    end_time_s: 5e-4
+  }
+  effects {
+    contacts {
+      law {
+        kn_n_per_m: 1e7
+        kt_n_per_m: 5e6
+        friction: 0
+        damping: NORMAL_DAMPING_CRITICAL_RATIO
+        damping_ratio: 0.3
+      }
+      density_kg_m3: 2650
+      dt_safety: 0.5
+    }
+  }
+  effects {
+    walls {
+      walls {
+        side: WALL_SIDE_BOTTOM
+        servo_stress_pa: 3.5e4
+        servo_gain_fraction: 0.5
+        servo_max_speed_m_s: 0.2
+      }
+      walls {
+        side: WALL_SIDE_LEFT
+        servo_stress_pa: 3.5e4
+        servo_gain_fraction: 0.5
+        servo_max_speed_m_s: 0.2
+      }
+      walls {
+        side: WALL_SIDE_RIGHT
+        servo_stress_pa: 3.5e4
+        servo_gain_fraction: 0.5
+        servo_max_speed_m_s: 0.2
+      }
+      walls {
+        side: WALL_SIDE_TOP
+        servo_stress_pa: 3.5e4
+        servo_gain_fraction: 0.5
+        servo_max_speed_m_s: 0.2
+      }
+    }
+  }
+  effects { local_damping { alpha: 0.3 } }
+  effects { flow {} }
+  effects { fluid_forces {} }
+  effects { volume_change {} }
 )pb";
 
 constexpr double kLatticePermeability = 1e-15 / (24.0 * 1e-3);  // a0^3 / (24 R)
@@ -182,6 +250,52 @@ TEST_F(CliCommands, CancelAndResumeARunningJob) {
   ASSERT_TRUE(WaitForState(id, "JOB_STATE_CANCELLED"));
   const json listed = Json({"list", "--state", "cancelled"});
   ASSERT_EQ(listed["jobs"].size(), 1u) << listed.dump(2);
+}
+
+// A coupled job reports the fluid-to-skeleton stiffness it ran at, beside the bound below which the
+// accuracy bench measured more than 5 % error; seep show and seep result warn for an over-scaled
+// fluid (K_f = 1e6) and stay quiet for a safely scaled one (K_f = 2.2e8).
+TEST_F(CliCommands, ShowWarnsOfAnOverScaledFluidAndNotOfASafelyScaledOne) {
+  for (const double bulk : {1e6, 2.2e8}) {
+    const bool over_scaled = bulk < 1e7;
+    char scene[4096];
+    std::snprintf(scene, sizeof scene, kSealedSampleScene, bulk);
+    char file[64];
+    std::snprintf(file, sizeof file, "sealed-%g.textproto", bulk);
+    const CommandResult submit = Seep({"submit", Write(file, scene)});
+    ASSERT_EQ(submit.exit_code, 0) << submit.output;
+    const std::string id = JobIdFrom(submit.output);
+    ASSERT_FALSE(id.empty()) << submit.output;
+    ASSERT_TRUE(WaitForState(id, "JOB_STATE_SUCCEEDED")) << Seep({"show", id}).output;
+
+    const json job = Json({"show", id});
+    const json& metrics = job["result"]["metrics"];
+    ASSERT_TRUE(metrics.contains("coupling_fluid_to_skeleton_stiffness")) << job.dump();
+    const double pi_k = metrics["coupling_fluid_to_skeleton_stiffness"].get<double>();
+    // Pi_K = K_f / (n_s K): n_s = 0.14 (the storage factor on V_d), K the lattice's affine
+    // estimate, kn sqrt(3)/2 in the interior (8.66e6 Pa) and ~15 % less with the sample's edges.
+    const double affine = bulk / 0.14 / metrics["coupling_skeleton_bulk_modulus_pa"].get<double>();
+    EXPECT_NEAR(pi_k, affine, 1e-9 * affine);
+    EXPECT_GT(metrics["coupling_skeleton_bulk_modulus_pa"].get<double>(), 0.7 * 8.66e6);
+    EXPECT_LT(metrics["coupling_skeleton_bulk_modulus_pa"].get<double>(), 8.66e6);
+    EXPECT_NEAR(metrics["coupling_storage_porosity"].get<double>(), 0.14, 1e-12);
+    EXPECT_EQ(metrics["coupling_fluid_to_skeleton_stiffness_safe_above"].get<double>(), 20.0);
+    EXPECT_EQ(pi_k < 20.0, over_scaled) << pi_k;
+
+    const CommandResult show = Seep({"show", id});
+    ASSERT_EQ(show.exit_code, 0) << show.output;
+    const bool warned =
+        show.output.find("warning   coupling_fluid_to_skeleton_stiffness = ") != std::string::npos;
+    EXPECT_EQ(warned, over_scaled) << show.output;
+    if (over_scaled) {
+      EXPECT_NE(show.output.find("is below 20: the accuracy bench measured more than 5 % error"),
+                std::string::npos)
+          << show.output;
+    }
+    const CommandResult result = Seep({"result", id});
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_EQ(result.output.find("warning   ") != std::string::npos, over_scaled) << result.output;
+  }
 }
 
 TEST_F(CliCommands, HealthAsTextAndJson) {

@@ -12,6 +12,7 @@
 #include "seep/core/effects/fluid_stable_step.h"
 #include "seep/core/effects/volume_change_effect.h"
 #include "seep/core/log.h"
+#include "seep/core/run/coupling_numbers.h"
 
 namespace seep::core {
 namespace {
@@ -458,6 +459,15 @@ Metrics Stepper::MeasureRun() const {
     if (std::isfinite(fluid_limited_dt_)) m["fluid_limited_dt_s"] = fluid_limited_dt_;
     m["flow_every_steps"] = static_cast<double>(flow_every_);
     m["redetections"] = static_cast<double>(state_.counters.redetections);
+    // Whether the fluid's stiffness was scaled safely (docs/accuracy.md, coupled runs): the
+    // number, and beside it the bound under which the accuracy bench measured more than 5 %
+    // error, so that a reader of the result (seep show) can warn without the physics.
+    if (const auto numbers = MeasureCouplingNumbers(state_)) {
+      m["coupling_storage_porosity"] = numbers->storage_porosity;
+      m["coupling_skeleton_bulk_modulus_pa"] = numbers->skeleton_bulk_modulus_pa;
+      m["coupling_fluid_to_skeleton_stiffness"] = numbers->fluid_to_skeleton_stiffness;
+      m["coupling_fluid_to_skeleton_stiffness_safe_above"] = kSafeFluidToSkeletonStiffness;
+    }
   } else if (dt_ > 0.0) {
     m["dt_s"] = dt_;
   }
