@@ -334,7 +334,8 @@ int Run(const Options& options) {
   // SIGINT/SIGTERM wake the shutdown thread through a semaphore posted by a handler. Not
   // sigwait: libraries start threads before main (OpenBLAS, under CHOLMOD, starts its pool
   // when loaded) whose masks leave the signals unblocked, and the kernel may deliver to any of
-  // them, so the disposition itself must be ours. The threads started here block the signals.
+  // them, so the disposition itself must be ours. The threads started here block the signals,
+  // but for the shutdown thread (signal_waiter below), which opens them for itself.
   if (sem_init(&g_stop_signalled, 0, 0) != 0) {
     logger->critical("cannot create the shutdown semaphore");
     return 1;
@@ -559,6 +560,11 @@ int Run(const Options& options) {
   retention.Start();
 
   std::thread signal_waiter([&] {
+    // This thread takes the signals itself: every other thread of ours blocks them, and the
+    // library threads that leave them open are not always there (OpenBLAS starts no pool on a
+    // one-CPU machine or under taskset -c 0, and seepd then ignored SIGTERM for good). The drain
+    // thread started below inherits this mask, which is as good.
+    pthread_sigmask(SIG_UNBLOCK, &signals, nullptr);
     while (sem_wait(&g_stop_signalled) != 0) {
     }  // EINTR: wait again
     logger->info(

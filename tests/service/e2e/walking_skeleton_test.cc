@@ -104,5 +104,29 @@ TEST_F(SeepdEndToEnd, UnreachableServerExitsWith14AndSigtermStopsCleanly) {
   EXPECT_NE(down.output.find("unreachable"), std::string::npos) << down.output;
 }
 
+// seepd blocks SIGINT/SIGTERM in its own threads and takes them in its shutdown thread. Before,
+// only library threads started before main (OpenBLAS's pool) had them open, so where there were
+// none (one CPU, taskset -c 0, OPENBLAS_NUM_THREADS=1) a SIGTERM stayed pending for good and
+// seepd only died to SIGKILL. The environment variable makes OpenBLAS start no pool here too.
+TEST(SeepdSignals, SigtermStopsSeepdWhenNoLibraryThreadTakesSignals) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("seep-e2e-signals-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string port_file = (dir / "port").string();
+  const std::string log = (dir / "seepd.out").string();
+  ChildProcess server(
+      {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", SEEPD_PATH, "--listen", "127.0.0.1:0",
+       "--data-dir", (dir / "data").string(), "--port-file", port_file},
+      log);
+  ASSERT_GT(WaitForPortFile(port_file, std::chrono::seconds(30)), 0) << "see " << log;
+  // 0 is a clean exit; 137 would be the SIGKILL that Stop sends after its timeout.
+  EXPECT_EQ(server.Stop(SIGTERM, std::chrono::seconds(15)), 0) << "see " << log;
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("signal 15 received: shutting down"), std::string::npos) << text;
+  if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace seep::testing
