@@ -23,7 +23,8 @@ std::string FormatProgressBar(const v1::Job& job, int columns);
 std::string FormatDuration(double seconds);             // "42 s", "3m05s", "2h07m"
 std::string FormatResult(const v1::JobResult& result);  // METRIC / VALUE table, sorted by name
 // One "warning   ..." line per number of `metrics` below the bound its "<number>_safe_above"
-// metric gives (a coupled job's scaled fluid stiffness, docs/accuracy.md); empty when none.
+// metric gives, or above the one its "<number>_safe_below" gives (a coupled job's scaled fluid
+// stiffness, flow interval and step safety, docs/accuracy.md); empty when none.
 std::string FormatAccuracyWarnings(const std::map<std::string, double>& metrics);
 std::string FormatLabels(const v1::Job& job);                  // "k1=v1,k2=v2", sorted by key
 std::string FormatJobEvent(const v1::JobHistoryEvent& event);  // one line: time, kind, message

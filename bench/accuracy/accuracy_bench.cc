@@ -2,7 +2,8 @@
 //
 //   seep_accuracy_bench [csv_path=accuracy.csv] [--svg chart.svg] [--full] [--only PROBLEM]
 //
-// --only diffusion|darcy|thiem|terzaghi runs that problem's grid alone.
+// --only diffusion|darcy|thiem|terzaghi|undrained|consolidation|breakdown runs that problem's grid
+// alone; --only rigid or --only coupled runs one family.
 //
 // Runs the verification problems that have an analytic answer over a grid of solver choices,
 // through the real path (SceneSpec -> Simulation::Create -> Simulation::Run):
@@ -14,12 +15,21 @@
 //     steady state);
 //   - steady radial injection against Thiem (steady solver; backward Euler to steady state);
 //   - Terzaghi consolidation in its rigid-skeleton form (closed base, drained outlet, every domain
-//     starting at u0), at Tv = 0.2 with the same solver choices (terzaghi_problem.h); the
-//     DEM-coupled column is the V17 unit test.
+//     starting at u0), at Tv = 0.2 with the same solver choices (terzaghi_problem.h);
+// and the coupled (DEM + flow) problems of issue 20, over K_f scaling from real water down to
+// 1e6 Pa, solver, flow interval, DEM step safety and particle count (coupled_grid.h):
+//   - undrained loading of a sealed sample, du/dsigma against real water's analytic share
+//     (undrained_problem.h);
+//   - the walled Terzaghi column against the series at real water's Tv .05/.2/.5
+//     (consolidation_problem.h);
+//   - hydraulic-fracturing initiation at constant-rate injection against the same sample at real
+//     water (breakdown_problem.h).
 // For each run it records the error against the analytic answer and the wall time of the run,
 // writes the CSV and the SVG chart (error versus time, Pareto front), prints the table, the
 // fronts, and the speed-up at 1% error on the 1D problems over PFC's explicit scheme.
-// The default grid takes about a minute or two; --full adds finer resolutions and longer steps.
+// The rigid problems' default grid takes about two minutes on one core, the coupled ones about
+// fifteen (--only rigid, --only coupled); --full adds finer resolutions, longer steps, larger
+// samples and both flow solvers at every K_f.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -34,6 +44,7 @@
 
 #include "accuracy_output.h"
 #include "accuracy_run.h"
+#include "breakdown_problem.h"
 #include "consolidation_problem.h"
 #include "coupled_summary.h"
 #include "darcy_problem.h"
@@ -63,7 +74,7 @@ struct Options {
 // --only's names: a problem, or "rigid" / "coupled" for a family.
 bool IsProblemName(const std::string& name) {
   for (const char* known : {"diffusion", "darcy", "thiem", "terzaghi", "undrained", "consolidation",
-                            "rigid", "coupled"}) {
+                            "breakdown", "rigid", "coupled"}) {
     if (name == known) return true;
   }
   return false;
@@ -283,10 +294,11 @@ void PrintStorageInPhysicalTime(const std::vector<double>& times) {
 int main(int argc, char** argv) {
   const auto options = ParseArgs(argc, argv);
   if (!options) {
-    std::fprintf(stderr,
-                 "usage: %s [csv_path=accuracy.csv] [--svg chart.svg] [--full] [--only "
-                 "diffusion|darcy|thiem|terzaghi]\n",
-                 argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s [csv_path=accuracy.csv] [--svg chart.svg] [--full] [--only "
+        "diffusion|darcy|thiem|terzaghi|undrained|consolidation|breakdown|rigid|coupled]\n",
+        argv[0]);
     return 2;
   }
   std::vector<AccuracyRun> rows;
@@ -310,6 +322,12 @@ int main(int argc, char** argv) {
   if (wanted("consolidation")) {
     seep::bench::RunConsolidationGrid(seep::bench::DefaultConsolidationGrid(options->full), rows);
   }
+  if (wanted("breakdown")) {
+    for (const auto& grid : seep::bench::DefaultBreakdownGrids(options->full)) {
+      seep::bench::RunBreakdownGrid(grid, rows);
+    }
+    seep::bench::RunBreakdownRates(rows);
+  }
 
   std::vector<std::size_t> all(rows.size());
   std::iota(all.begin(), all.end(), std::size_t{0});
@@ -328,8 +346,10 @@ int main(int argc, char** argv) {
     }
   }
   seep::bench::PrintCoupledSummary(stdout, rows);
-  PrintKfScaling(rows);
-  PrintStorageInPhysicalTime(diffusion.times);
+  if (wanted("diffusion")) {
+    PrintKfScaling(rows);
+    PrintStorageInPhysicalTime(diffusion.times);
+  }
 
   if (const auto s = seep::bench::WriteCsv(options->csv_path, rows); !s.ok()) {
     std::fprintf(stderr, "%s\n", s.ToString().c_str());

@@ -24,10 +24,10 @@ core::Status WriteCsv(const std::string& path, const std::vector<AccuracyRun>& r
   if (!f) return core::InvalidArgument(fmt::format("csv path {}: cannot open for writing", path));
   f << "problem,solver,storage,dt_over_dt_crit,resolution,domains,bulk_modulus_pa,steps,wall_s,"
        "setup_s,error,error_kind,note,dem_dt_safety,flow_every_asked,flow_every,"
-       "fluid_to_skeleton_stiffness,real_water_error\n";
+       "fluid_to_skeleton_stiffness,real_water_error,fluid_step_over_flow_interval\n";
   for (const AccuracyRun& r : rows) {
     if (r.pending) {
-      f << fmt::format("{},{},{},,,,,,,,,{},{},,,,,\n", r.problem, r.solver, r.storage,
+      f << fmt::format("{},{},{},,,,,,,,,{},{},,,,,,\n", r.problem, r.solver, r.storage,
                        CsvText(r.error_kind), CsvText(r.note));
       continue;
     }
@@ -35,10 +35,10 @@ core::Status WriteCsv(const std::string& path, const std::vector<AccuracyRun>& r
                      r.storage, r.dt_over_dt_crit, r.resolution, r.domains, r.bulk_modulus_pa,
                      r.steps, r.wall_s, r.setup_s, r.error, CsvText(r.error_kind), CsvText(r.note));
     if (r.storage == "coupled") {
-      f << fmt::format(",{:g},{},{:g},{:.4g},{:.6e}\n", r.dem_dt_safety, r.flow_every_asked,
-                       r.flow_every, r.stiffness_ratio, r.real_water_error);
+      f << fmt::format(",{:g},{},{:g},{:.4g},{:.6e},{:.4g}\n", r.dem_dt_safety, r.flow_every_asked,
+                       r.flow_every, r.stiffness_ratio, r.real_water_error, r.fluid_step_ratio);
     } else {
-      f << ",,,,,\n";
+      f << ",,,,,,\n";
     }
   }
   f.flush();

@@ -33,6 +33,7 @@ struct AccuracyRun {
   std::uint32_t flow_every_asked = 0;  // FlowEffectSpec::every_steps (0 = automatic)
   double flow_every = 0.0;             // DEM steps per flow update the run chose
   double stiffness_ratio = 0.0;        // coupling_fluid_to_skeleton_stiffness, Pi_K
+  double fluid_step_ratio = 0.0;       // coupling_fluid_step_over_flow_interval
   // The same measure against the same problem's run at real water (base choices, same size).
   double real_water_error = std::numeric_limits<double>::quiet_NaN();
 };

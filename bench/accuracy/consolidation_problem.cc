@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "seep/core/reference/terzaghi.h"
@@ -18,10 +17,8 @@ using core::SceneSpec;
 using core::WallSide;
 
 constexpr std::size_t kBottom = 0, kLeft = 1, kRight = 2, kTop = 3;  // the walls' order
-constexpr double kRadius = 1e-3;                                     // m
 constexpr double kLoadStep = 2e4;                                    // Pa
 constexpr double kViscosity = 1.5e-5;        // Pa s: H^2/c_v ~ 50 ms with real water (6 x 24)
-constexpr double kStoragePorosity = 0.14;    // as V17: the walled column's own V_p / V_d
 constexpr double kPlatenConductance = 1e-2;  // m/(Pa s): the top platen is an ideal drain
 constexpr double kServoMaxSpeed = 0.2;       // m/s
 constexpr std::array<double, 3> kTimeFactors = {0.05, 0.2, 0.5};
@@ -48,25 +45,10 @@ core::WallsEffectSpec Walls(bool drained_base_probe) {
 }
 
 SceneSpec Column(const Size& size, double end_time_s) {
-  SceneSpec s;
-  s.name = fmt::format("consolidation-{}x{}", size.columns, size.rows);
-  s.packing.source =
-      core::LatticePackingSpec{core::LatticeKind::kHex, size.columns, size.rows, kRadius};
-  s.packing.contact_gap_m = 1e-6;
-  s.fluid.viscosity_pa_s = kViscosity;
+  SceneSpec s = WalledLattice(fmt::format("consolidation-{}x{}", size.columns, size.rows),
+                              size.columns, size.rows, kViscosity, Walls(false), end_time_s);
   s.fluid.bulk_modulus_pa = kRealWaterBulkModulusPa;
-  s.aperture.residual_aperture_m = 1e-5;
-  s.aperture.reference_force_n = 1e3;
   s.aperture.gap_multiplier = 0.0;
-  s.boundary.walls_only = true;
-  s.solver.kind = core::SolverKind::kImplicit;
-  s.solver.dt_factor = 1e6;
-  s.solver.storage = core::StorageVolume::kApparent;
-  s.solver.storage_factor = kStoragePorosity;
-  s.solver.end_time_s = end_time_s;
-  s.effects = {SoftLatticeContacts(0.5),          Walls(false),
-               core::LocalDampingEffectSpec{0.3}, core::FlowEffectSpec{},
-               core::FluidForcesEffectSpec{},     core::VolumeChangeEffectSpec{}};
   return s;
 }
 
@@ -104,7 +86,7 @@ core::TerzaghiParameters RealWater(const ColumnProperties& c) {
   p.permeability = c.permeability;
   p.viscosity = kViscosity;
   p.oedometer_modulus = c.oedometer_modulus;
-  p.storage_porosity = kStoragePorosity;
+  p.storage_porosity = kLatticeStoragePorosity;
   p.fluid_bulk_modulus = kRealWaterBulkModulusPa;
   p.drainage_length = c.height;
   p.load_step = kLoadStep;
@@ -175,7 +157,7 @@ CoupledGrid DefaultConsolidationGrid(bool full) {
   g.flow_every = {4, 16};
   g.dt_safety = {0.5, 0.8};
   g.sizes = full ? 3 : 2;
-  g.explicit_solver = full;  // explicit sub-cycling at real water costs ~3x the implicit run
+  g.both_solvers = full;  // explicit sub-cycling at real water costs ~3x the implicit run
   return g;
 }
 
@@ -227,35 +209,23 @@ void RunConsolidationGrid(const CoupledGrid& grid, std::vector<AccuracyRun>& row
         "max(|s - s_series|/s_final; |u - u_series|/dsigma) at real water's Tv .05/.2/.5",
         detail + fmt::format("E_oed {:.4g} Pa k {:.4g} m2 H {:.4g} m t0 {:.3g} s",
                              column.oedometer_modulus, column.permeability, column.height, t0)));
-    const AccuracyRun& r = rows.back();
-    std::fprintf(stderr,
-                 "consolidation %4d disks K_f %.2g %s every %u safety %.2f: Pi_K %.3g, error "
-                 "%.3e (%.2f s, %llu steps) %s\n",
-                 particles, choice.bulk_modulus_pa, r.solver.c_str(), choice.flow_every,
-                 choice.dt_safety, r.stiffness_ratio, r.error, r.wall_s,
-                 static_cast<unsigned long long>(r.steps), detail.c_str());
+    PrintCoupledProgress(rows.back(), choice, particles, detail);
   }
   // Against the same column at real water (the base choice at that size): what the choice alone
   // cost, without the lattice's own distance from the series.
+  const std::vector<std::size_t> base = RealWaterBaseIndices(choices, grid);
   for (std::size_t i = 0; i < choices.size(); ++i) {
-    for (std::size_t ref = 0; ref < choices.size(); ++ref) {
-      const CoupledChoice& c = choices[ref];
-      if (c.size != choices[i].size || c.bulk_modulus_pa != kRealWaterBulkModulusPa ||
-          c.solver != core::SolverKind::kImplicit || c.flow_every != 0 ||
-          c.dt_safety != grid.dt_safety.front()) {
-        continue;
-      }
-      const ColumnProperties& column = columns[static_cast<std::size_t>(c.size)];
-      const double final_settlement = kLoadStep * column.height / column.oedometer_modulus;
-      double worst =
-          observed[i].size() == kTimeFactors.size() && observed[ref].size() == kTimeFactors.size()
-              ? 0.0
-              : std::numeric_limits<double>::quiet_NaN();
-      for (std::size_t k = 0; std::isfinite(worst) && k < kTimeFactors.size(); ++k) {
-        worst = std::max(worst, Difference(observed[i][k], observed[ref][k], final_settlement));
-      }
-      rows[first + i].real_water_error = worst;
+    const std::vector<Observation>& own = observed[i];
+    const std::vector<Observation>& real = observed[base[i]];
+    const ColumnProperties& column = columns[static_cast<std::size_t>(choices[i].size)];
+    const double final_settlement = kLoadStep * column.height / column.oedometer_modulus;
+    double worst = own.size() == kTimeFactors.size() && real.size() == kTimeFactors.size()
+                       ? 0.0
+                       : std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t k = 0; std::isfinite(worst) && k < kTimeFactors.size(); ++k) {
+      worst = std::max(worst, Difference(own[k], real[k], final_settlement));
     }
+    rows[first + i].real_water_error = worst;
   }
 }
 

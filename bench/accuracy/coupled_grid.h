@@ -33,11 +33,14 @@ struct CoupledGrid {
   std::vector<std::uint32_t> flow_every;  // besides automatic (0)
   std::vector<double> dt_safety;          // the first is the base
   int sizes = 1;                          // size indices 0..sizes-1; 0 is the base
-  bool explicit_solver = true;            // also run every K_f with the explicit solver
+  // The solver of the base and of every one-at-a-time variation; with both_solvers every K_f
+  // also runs with the other one.
+  core::SolverKind base_solver = core::SolverKind::kImplicit;
+  bool both_solvers = true;
 };
 
 // The grid's runs, base first: (K_f x solver), then flow_every, dt_safety and size varied alone
-// at every K_f (implicit).
+// at every K_f (base_solver).
 std::vector<CoupledChoice> CoupledChoices(const CoupledGrid& grid);
 
 // Writes the choice into a coupled scene: K_f, the solver (explicit at 0.9 dt_crit sub-cycled in
@@ -67,6 +70,27 @@ AccuracyRun CoupledRow(const std::string& problem, const CoupledChoice& choice, 
 // The soft, frictionless lattice contacts of the undrained and consolidation problems (as the V17
 // and V20 tests): kn = 1e7 N/m per m, kt = kn/2, critical damping ratio 0.3, rho = 2650.
 core::ContactsEffectSpec SoftLatticeContacts(double dt_safety);
+
+// The run's progress line on stderr: problem, size, choice, Pi_K, the error when it is known
+// (the breakdown's is set once its real-water run is in), wall time and steps, then `detail`.
+void PrintCoupledProgress(const AccuracyRun& row, const CoupledChoice& choice, int particles,
+                          const std::string& detail, bool error_known = true);
+
+// The walled hex lattice of the undrained and consolidation problems (as the V17 and V20 tests):
+// `columns` x `rows` disks of radius 1 mm 1 um apart, soft lattice contacts, `walls`, local
+// damping 0.3, flow with fluid forces and volume change, the fluid on the walls only, storage
+// 0.14 V_d (the walled lattice's own V_p / V_d), implicit with the flow interval left to the DEM
+// step (ApplyChoice sets the choice's solver).
+inline constexpr double kLatticeStoragePorosity = 0.14;
+core::SceneSpec WalledLattice(const std::string& name, std::uint32_t columns, std::uint32_t rows,
+                              double viscosity_pa_s, core::WallsEffectSpec walls,
+                              double end_time_s);
+
+// For each choice, the index of the run it is compared with at real water: the base choice (real
+// water, base_solver, automatic flow interval, the grid's first dt_safety) at the same size; the
+// choice's own index when the grid has no such run.
+std::vector<std::size_t> RealWaterBaseIndices(const std::vector<CoupledChoice>& choices,
+                                              const CoupledGrid& grid);
 
 // A report metric, NaN when absent.
 double ReportMetric(const core::RunReport& report, const std::string& name);

@@ -64,6 +64,20 @@ plot::Style FrontStyle() {
 
 bool IsPfcScheme(const AccuracyRun& r) { return r.solver == "explicit" && r.storage == "apparent"; }
 
+// What a coupled panel's error is measured against; the problem's name elsewhere.
+std::string PanelTitle(const std::string& problem) {
+  if (problem == "undrained") return "undrained: du/dsigma vs analytic";
+  if (problem == "consolidation") return "consolidation: vs the Terzaghi series";
+  if (problem == "breakdown") return "breakdown at 2e-5 m2/s: P_i vs real water";
+  if (problem == "breakdown-slow") return "breakdown at 2.5e-6 m2/s: P_i vs real water";
+  if (problem == "breakdown-rate") return "real water: P_i vs the slowest rate";
+  return problem;
+}
+
+// A coupled problem's error is against one of its own runs (real water, or the slowest rate):
+// that run's error is 0 by construction and has no place on a log axis.
+bool IsOwnReference(const AccuracyRun& r) { return r.storage == "coupled" && r.error == 0.0; }
+
 // One panel: the runs of `problem` (at `resolution` only when it is >= 0).
 plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& problem,
                       int resolution, const std::string& title) {
@@ -91,7 +105,8 @@ plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& p
   for (const bool pfc : {false, true}) {
     for (const AccuracyRun& r : rows) {
       if (r.problem != problem || r.pending || !std::isfinite(r.error) || r.wall_s <= 0.0 ||
-          (resolution >= 0 && r.resolution != resolution) || IsPfcScheme(r) != pfc) {
+          (resolution >= 0 && r.resolution != resolution) || IsPfcScheme(r) != pfc ||
+          IsOwnReference(r)) {
         continue;
       }
       plot::Style style = r.storage == "coupled" ? CoupledStyleOf(r) : StyleOf(r.solver, r.storage);
@@ -111,6 +126,7 @@ plot::Panel MakePanel(const std::vector<AccuracyRun>& rows, const std::string& p
   plot::Series front;
   front.style = FrontStyle();
   for (const std::size_t i : ParetoFront(rows, problem, resolution)) {
+    if (IsOwnReference(rows[i])) continue;
     front.x.push_back(rows[i].wall_s);
     front.y.push_back(std::max(rows[i].error, kErrorFloor));
   }
@@ -127,7 +143,7 @@ core::Status WriteSvgChart(const std::string& path, const std::vector<AccuracyRu
   // DEM packing, whose resolution is not the user's choice.
   std::string last_diffusion;
   for (const std::string& problem : Problems(rows)) {
-    chart.panels.push_back(MakePanel(rows, problem, -1, problem));
+    chart.panels.push_back(MakePanel(rows, problem, -1, PanelTitle(problem)));
     if (problem.rfind("diffusion", 0) == 0) last_diffusion = problem;
   }
   if (!last_diffusion.empty()) {

@@ -4,19 +4,18 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <utility>
+
+#include "seep/core/flow/flow_diagnostics.h"
 
 namespace seep::bench {
 namespace {
 
 using core::SceneSpec;
 
-constexpr double kRadius = 1e-3;           // m
-constexpr double kLoad = 3.5e4;            // Pa on every wall
-constexpr double kStoragePorosity = 0.14;  // solver.storage_factor on V_d (as V17/V20)
-constexpr double kServoMaxSpeed = 0.2;     // m/s
+constexpr double kLoad = 3.5e4;         // Pa on every wall
+constexpr double kServoMaxSpeed = 0.2;  // m/s
 // Thin enough that the pressure evens out inside the sample within ~1 ms; u does not depend on it.
 constexpr double kViscosity = 7.5e-7;  // Pa s
 constexpr double kEndTime = 0.008;     // s; the load is on within ~2 ms
@@ -37,24 +36,8 @@ core::WallsEffectSpec Walls() {
 }
 
 SceneSpec SealedSample(const Size& size) {
-  SceneSpec s;
-  s.name = fmt::format("undrained-{}x{}", size.columns, size.rows);
-  s.packing.source =
-      core::LatticePackingSpec{core::LatticeKind::kHex, size.columns, size.rows, kRadius};
-  s.packing.contact_gap_m = 1e-6;
-  s.fluid.viscosity_pa_s = kViscosity;
-  s.aperture.residual_aperture_m = 1e-5;
-  s.aperture.reference_force_n = 1e3;
-  s.boundary.walls_only = true;
-  s.solver.kind = core::SolverKind::kImplicit;  // the drained run's; ApplyChoice sets the others
-  s.solver.dt_factor = 1e6;
-  s.solver.storage = core::StorageVolume::kApparent;
-  s.solver.storage_factor = kStoragePorosity;
-  s.solver.end_time_s = kEndTime;
-  s.effects = {SoftLatticeContacts(0.5),          Walls(),
-               core::LocalDampingEffectSpec{0.3}, core::FlowEffectSpec{},
-               core::FluidForcesEffectSpec{},     core::VolumeChangeEffectSpec{}};
-  return s;
+  return WalledLattice(fmt::format("undrained-{}x{}", size.columns, size.rows), size.columns,
+                       size.rows, kViscosity, Walls(), kEndTime);
 }
 
 double BoxArea(const core::LiveState& state) {
@@ -98,23 +81,16 @@ void RunUndrainedGrid(const CoupledGrid& grid, std::vector<AccuracyRun>& rows) {
     int count = 0;
     const CoupledRun run = RunCoupled(scene, [&](const core::Simulation& now) {
       if (now.time_s() < kWindowStart) return false;
-      const core::LiveState& state = now.stepper().state();
-      const auto p = state.net.flow.pressure();
-      const auto v = state.net.flow.apparent_volume();
-      double pv = 0.0, vv = 0.0;
-      for (std::size_t d = 0; d < state.net.domains.num_domains(); ++d) {
-        pv += p[d] * v[d];
-        vv += v[d];
-      }
-      sum += pv / vv;
+      sum += core::VolumeWeightedMeanPressure(now.stepper().state().net.flow,
+                                              core::StorageVolume::kApparent);
       ++count;
       return false;
     });
     const double k = bulk[static_cast<std::size_t>(choice.size)];
-    const double real = (kRealWaterBulkModulusPa / kStoragePorosity) /
-                        (kRealWaterBulkModulusPa / kStoragePorosity + k);
-    const double own = (choice.bulk_modulus_pa / kStoragePorosity) /
-                       (choice.bulk_modulus_pa / kStoragePorosity + k);
+    const double real = (kRealWaterBulkModulusPa / kLatticeStoragePorosity) /
+                        (kRealWaterBulkModulusPa / kLatticeStoragePorosity + k);
+    const double own = (choice.bulk_modulus_pa / kLatticeStoragePorosity) /
+                       (choice.bulk_modulus_pa / kLatticeStoragePorosity + k);
     const double measured = count > 0 ? sum / count / kLoad : std::nan("");
     const double error = std::abs(measured - real) / real;
     shares.push_back(measured);
@@ -123,24 +99,12 @@ void RunUndrainedGrid(const CoupledGrid& grid, std::vector<AccuracyRun>& rows) {
         "undrained", choice, particles, run, error, "|du/dsigma - real water|/real water",
         fmt::format("du/dsigma {:.4f} (own K_f {:.4f}; real water {:.4f}); K {:.4g} Pa", measured,
                     own, real, k)));
-    const AccuracyRun& r = rows.back();
-    std::fprintf(stderr,
-                 "undrained %4d disks K_f %.2g %s every %u safety %.2f: Pi_K %.3g, error %.3e "
-                 "(%.2f s, %llu steps)\n",
-                 particles, choice.bulk_modulus_pa, r.solver.c_str(), choice.flow_every,
-                 choice.dt_safety, r.stiffness_ratio, r.error, r.wall_s,
-                 static_cast<unsigned long long>(r.steps));
+    PrintCoupledProgress(rows.back(), choice, particles, "");
   }
   // Against the same sample's run at real water (the base choice at that size).
+  const std::vector<std::size_t> base = RealWaterBaseIndices(choices, grid);
   for (std::size_t i = 0; i < choices.size(); ++i) {
-    for (std::size_t ref = 0; ref < choices.size(); ++ref) {
-      const CoupledChoice& c = choices[ref];
-      if (c.size == choices[i].size && c.bulk_modulus_pa == kRealWaterBulkModulusPa &&
-          c.solver == core::SolverKind::kImplicit && c.flow_every == 0 &&
-          c.dt_safety == grid.dt_safety.front()) {
-        rows[first + i].real_water_error = std::abs(shares[i] - shares[ref]) / shares[ref];
-      }
-    }
+    rows[first + i].real_water_error = std::abs(shares[i] - shares[base[i]]) / shares[base[i]];
   }
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 
 #include "seepd_fixture.h"
@@ -96,7 +97,7 @@ constexpr const char* kSealedSampleScene = R"pb(
     }
   }
   effects { local_damping { alpha: 0.3 } }
-  effects { flow {} }
+  effects { flow { %s } }
   effects { fluid_forces {} }
   effects { volume_change {} }
 )pb";
@@ -252,16 +253,24 @@ TEST_F(CliCommands, CancelAndResumeARunningJob) {
   ASSERT_EQ(listed["jobs"].size(), 1u) << listed.dump(2);
 }
 
-// A coupled job reports the fluid-to-skeleton stiffness it ran at, beside the bound below which the
-// accuracy bench measured more than 5 % error; seep show and seep result warn for an over-scaled
-// fluid (K_f = 1e6) and stay quiet for a safely scaled one (K_f = 2.2e8).
-TEST_F(CliCommands, ShowWarnsOfAnOverScaledFluidAndNotOfASafelyScaledOne) {
-  for (const double bulk : {1e6, 2.2e8}) {
-    const bool over_scaled = bulk < 1e7;
+// A coupled job reports the fluid-to-skeleton stiffness it ran at and its flow interval against
+// the fluid's stable step, each beside the bound below which the accuracy bench measured runs more
+// than 5 % off real water; seep show and seep result warn for an over-scaled fluid (K_f = 1e6) and
+// for a fixed flow interval longer than the fluid allows, and stay quiet for a safely scaled fluid
+// at the automatic interval (K_f = 2.2e8).
+TEST_F(CliCommands, ShowWarnsOfAnOverScaledFluidOrAnOverlongFlowIntervalAndNotOfASafeRun) {
+  struct Case {
+    double bulk;
+    const char* flow;
+    bool over_scaled, overlong_interval;
+  };
+  for (const Case& c : {Case{1e6, "", true, false}, Case{2.2e8, "", false, false},
+                        Case{2.2e8, "every_steps: 64", false, true}}) {
+    SCOPED_TRACE(std::string("K_f ") + std::to_string(c.bulk) + " flow {" + c.flow + "}");
     char scene[4096];
-    std::snprintf(scene, sizeof scene, kSealedSampleScene, bulk);
+    std::snprintf(scene, sizeof scene, kSealedSampleScene, c.bulk, c.flow);
     char file[64];
-    std::snprintf(file, sizeof file, "sealed-%g.textproto", bulk);
+    std::snprintf(file, sizeof file, "sealed-%g-%zu.textproto", c.bulk, std::strlen(c.flow));
     const CommandResult submit = Seep({"submit", Write(file, scene)});
     ASSERT_EQ(submit.exit_code, 0) << submit.output;
     const std::string id = JobIdFrom(submit.output);
@@ -274,27 +283,43 @@ TEST_F(CliCommands, ShowWarnsOfAnOverScaledFluidAndNotOfASafelyScaledOne) {
     const double pi_k = metrics["coupling_fluid_to_skeleton_stiffness"].get<double>();
     // Pi_K = K_f / (n_s K): n_s = 0.14 (the storage factor on V_d), K the lattice's affine
     // estimate, kn sqrt(3)/2 in the interior (8.66e6 Pa) and ~15 % less with the sample's edges.
-    const double affine = bulk / 0.14 / metrics["coupling_skeleton_bulk_modulus_pa"].get<double>();
+    const double affine =
+        c.bulk / 0.14 / metrics["coupling_skeleton_bulk_modulus_pa"].get<double>();
     EXPECT_NEAR(pi_k, affine, 1e-9 * affine);
     EXPECT_GT(metrics["coupling_skeleton_bulk_modulus_pa"].get<double>(), 0.7 * 8.66e6);
     EXPECT_LT(metrics["coupling_skeleton_bulk_modulus_pa"].get<double>(), 8.66e6);
     EXPECT_NEAR(metrics["coupling_storage_porosity"].get<double>(), 0.14, 1e-12);
-    EXPECT_EQ(metrics["coupling_fluid_to_skeleton_stiffness_safe_above"].get<double>(), 20.0);
-    EXPECT_EQ(pi_k < 20.0, over_scaled) << pi_k;
+    EXPECT_EQ(metrics["coupling_fluid_to_skeleton_stiffness_safe_above"].get<double>(), 50.0);
+    EXPECT_EQ(pi_k < 50.0, c.over_scaled) << pi_k;
+    // The interval against the fluid's step, from the job's own dt metrics.
+    const double interval_ratio =
+        metrics["fluid_limited_dt_s"].get<double>() /
+        (metrics["flow_every_steps"].get<double>() * metrics["dem_dt_s"].get<double>());
+    EXPECT_NEAR(metrics["coupling_fluid_step_over_flow_interval"].get<double>(), interval_ratio,
+                1e-12 * interval_ratio);
+    EXPECT_EQ(metrics["coupling_fluid_step_over_flow_interval_safe_above"].get<double>(), 1.0);
+    EXPECT_EQ(interval_ratio < 1.0, c.overlong_interval) << interval_ratio;
 
     const CommandResult show = Seep({"show", id});
     ASSERT_EQ(show.exit_code, 0) << show.output;
-    const bool warned =
+    const bool warned_pi =
         show.output.find("warning   coupling_fluid_to_skeleton_stiffness = ") != std::string::npos;
-    EXPECT_EQ(warned, over_scaled) << show.output;
-    if (over_scaled) {
-      EXPECT_NE(show.output.find("is below 20: the accuracy bench measured more than 5 % error"),
-                std::string::npos)
+    EXPECT_EQ(warned_pi, c.over_scaled) << show.output;
+    if (c.over_scaled) {
+      EXPECT_NE(
+          show.output.find("is below 50: the accuracy bench measured runs there more than 5 % off"),
+          std::string::npos)
           << show.output;
     }
+    const bool warned_interval =
+        show.output.find("warning   coupling_fluid_step_over_flow_interval = ") !=
+        std::string::npos;
+    EXPECT_EQ(warned_interval, c.overlong_interval) << show.output;
     const CommandResult result = Seep({"result", id});
     ASSERT_EQ(result.exit_code, 0) << result.output;
-    EXPECT_EQ(result.output.find("warning   ") != std::string::npos, over_scaled) << result.output;
+    EXPECT_EQ(result.output.find("warning   ") != std::string::npos,
+              c.over_scaled || c.overlong_interval)
+        << result.output;
   }
 }
 

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 namespace seep::client {
 namespace {
 
@@ -144,6 +147,52 @@ TEST(JobSummary, ShowsTheSlurmJobOfItsWorker) {
   job.mutable_batch()->clear_node();
   EXPECT_NE(FormatJob(job).find("\nslurm     job 4711\n"), std::string::npos) << FormatJob(job);
   EXPECT_EQ(FormatJob(RunningJob(0.5)).find("slurm"), std::string::npos);
+}
+
+// A floor (_safe_above) warns below it, a ceiling (_safe_below) above it, each naming the number,
+// its value and the bound; a number on the safe side, at its bound, or without its number
+// warns of nothing; a stage's copy warns for the stage.
+TEST(AccuracyWarnings, FloorsWarnBelowCeilingsAboveAndNamesTheNumberAndBound) {
+  const std::map<std::string, double> metrics = {
+      {"coupling_fluid_to_skeleton_stiffness", 12.5},
+      {"coupling_fluid_to_skeleton_stiffness_safe_above", 50.0},
+      {"coupling_bonded_dem_step_safety", 0.5},
+      {"coupling_bonded_dem_step_safety_safe_below", 0.2},
+      {"stage2_coupling_fluid_step_over_flow_interval", 1.0},  // at the bound: safe
+      {"stage2_coupling_fluid_step_over_flow_interval_safe_above", 1.0},
+      {"lonely_safe_below", 3.0},  // no number beside it
+  };
+  const std::string out = FormatAccuracyWarnings(metrics);
+  EXPECT_NE(out.find("warning   coupling_fluid_to_skeleton_stiffness = 12.5 is below 50: "),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("warning   coupling_bonded_dem_step_safety = 0.5 is above 0.2: "),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+  // A staged run's copies fold into the whole run's line; a stage alone warns on its own.
+  const std::string staged = FormatAccuracyWarnings({
+      {"coupling_fluid_to_skeleton_stiffness", 0.5},
+      {"coupling_fluid_to_skeleton_stiffness_safe_above", 50.0},
+      {"stage1_coupling_fluid_to_skeleton_stiffness", 0.4},
+      {"stage1_coupling_fluid_to_skeleton_stiffness_safe_above", 50.0},
+      {"stage3_coupling_fluid_to_skeleton_stiffness", 0.6},
+      {"stage3_coupling_fluid_to_skeleton_stiffness_safe_above", 50.0},
+      {"stage2_coupling_fluid_step_over_flow_interval", 0.25},
+      {"stage2_coupling_fluid_step_over_flow_interval_safe_above", 1.0},
+  });
+  EXPECT_NE(staged.find("warning   coupling_fluid_to_skeleton_stiffness = 0.5 is below 50 (and in "
+                        "stage 1, 3): "),
+            std::string::npos)
+      << staged;
+  EXPECT_NE(
+      staged.find("warning   stage2_coupling_fluid_step_over_flow_interval = 0.25 is below 1: "),
+      std::string::npos)
+      << staged;
+  EXPECT_EQ(std::count(staged.begin(), staged.end(), '\n'), 2) << staged;
+  EXPECT_EQ(FormatAccuracyWarnings({{"coupling_bonded_dem_step_safety", 0.2},
+                                    {"coupling_bonded_dem_step_safety_safe_below", 0.2}}),
+            "");
 }
 
 TEST(Duration, SecondsMinutesHours) {

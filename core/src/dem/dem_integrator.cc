@@ -90,7 +90,8 @@ void IntegrateSecondHalf(DemParticles* p, double dt, DemCounters* counters) {
   if (counters != nullptr) counters->integrations += static_cast<std::uint64_t>(n);
 }
 
-Result<double> EstimateStableTimeStep(const DemParticles& p, double kn, double kt, double safety) {
+Result<double> EstimateStableTimeStep(const DemParticles& p, double kn, double kt, double safety,
+                                      const BondParams* bonds) {
   if (!std::isfinite(kn) || kn <= 0.0) {
     return InvalidArgument("dem.stable_step.kn: must be finite and > 0 (got " + std::to_string(kn) +
                            ")");
@@ -106,11 +107,17 @@ Result<double> EstimateStableTimeStep(const DemParticles& p, double kn, double k
   if (p.size() == 0) return InvalidArgument("dem.stable_step: no particles");
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p.size(); ++i) {
-    best = std::min(best, std::sqrt(p.mass[i] / kn));
-    if (kt > 0.0) {
-      const double r = p.radius[i];
-      best = std::min(best, std::sqrt(p.inertia[i] / (kt * r * r)));
+    const double r = p.radius[i];
+    double normal = kn;
+    double rotation = kt * r * r;
+    if (bonds != nullptr) {
+      const double area = 2.0 * bonds->radius_multiplier * r;
+      normal += bonds->normal_stiffness * area;
+      rotation += bonds->shear_stiffness * area * r * r +
+                  bonds->normal_stiffness * area * area * area / 12.0;
     }
+    best = std::min(best, std::sqrt(p.mass[i] / normal));
+    if (rotation > 0.0) best = std::min(best, std::sqrt(p.inertia[i] / rotation));
   }
   return safety * best;
 }

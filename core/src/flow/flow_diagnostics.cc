@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "seep/core/flow/pipe_head.h"
@@ -82,6 +83,18 @@ PressureRange ComputePressureRange(const FlowNetwork& network) {
     }
   }
   return out;
+}
+
+double VolumeWeightedMeanPressure(const FlowNetwork& network, StorageVolume weight) {
+  const auto pressure = network.pressure();
+  const auto volume =
+      weight == StorageVolume::kPore ? network.pore_volume() : network.apparent_volume();
+  double pv = 0.0, v = 0.0;
+  for (std::size_t d = 0; d < pressure.size(); ++d) {
+    pv += pressure[d] * volume[d];
+    v += volume[d];
+  }
+  return v > 0.0 ? pv / v : std::numeric_limits<double>::quiet_NaN();
 }
 
 Result<double> DarcyPermeability(double viscosity, double flow_rate, double length, double height,

@@ -22,11 +22,9 @@ bool IsCoupled(const LiveState& s) {
 double SpringMoments(const LiveState& s) {
   const SceneSpec& scene = *s.scene;
   double kn = 0.0;
-  for (const EffectSpec& e : scene.effects) {
-    if (const auto* c = std::get_if<ContactsEffectSpec>(&e)) kn = c->law.kn;
-  }
   const BondParams* bond = nullptr;
   for (const EffectSpec& e : scene.effects) {
+    if (const auto* c = std::get_if<ContactsEffectSpec>(&e)) kn = c->law.kn;
     if (const auto* b = std::get_if<BondsEffectSpec>(&e)) bond = &b->params;
   }
   std::vector<DemContactRecord> contacts;

@@ -107,9 +107,11 @@ Status Stepper::SetClock() {
     dt_ = solver.dt_factor * flow->dt_crit_s();
   } else {
     const auto* contacts = FindEffect<ContactsEffectSpec>(scene_);
+    const auto* bonds_effect = FindEffect<BondsEffectSpec>(scene_);
+    const BondParams* bonds = bonds_effect != nullptr ? &bonds_effect->params : nullptr;
     SEEP_ASSIGN_OR_RETURN(
         contact_dt_, EstimateStableTimeStep(state_.particles, contacts->law.kn, contacts->law.kt,
-                                            contacts->dt_safety));
+                                            contacts->dt_safety, bonds));
     dt_ = contact_dt_;
     if (FluidIsASpring()) {
       fluid_limited_dt_ = FluidStableStep(state_, contacts->dt_safety);
@@ -467,6 +469,15 @@ Metrics Stepper::MeasureRun() const {
       m["coupling_skeleton_bulk_modulus_pa"] = numbers->skeleton_bulk_modulus_pa;
       m["coupling_fluid_to_skeleton_stiffness"] = numbers->fluid_to_skeleton_stiffness;
       m["coupling_fluid_to_skeleton_stiffness_safe_above"] = kSafeFluidToSkeletonStiffness;
+      if (std::isfinite(fluid_limited_dt_) && flow_every_ > 0) {
+        m["coupling_fluid_step_over_flow_interval"] =
+            fluid_limited_dt_ / (static_cast<double>(flow_every_) * dt_);
+        m["coupling_fluid_step_over_flow_interval_safe_above"] = kSafeFluidStepOverFlowInterval;
+      }
+      if (HasEffect<BondsEffectSpec>(scene_)) {
+        m["coupling_bonded_dem_step_safety"] = FindEffect<ContactsEffectSpec>(scene_)->dt_safety;
+        m["coupling_bonded_dem_step_safety_safe_below"] = kSafeBondedDemStepSafety;
+      }
     }
   } else if (dt_ > 0.0) {
     m["dt_s"] = dt_;

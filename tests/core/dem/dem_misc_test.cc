@@ -35,6 +35,29 @@ TEST(DemStableStep, KnownMassAndStiffness) {
   EXPECT_FALSE(EstimateStableTimeStep(p, 0.0, 0.0, 0.5).ok());
 }
 
+TEST(DemStableStep, ParallelBondsStiffenTranslationAndRotation) {
+  // One disk, R = 0.5, rho = 1: m = pi/4, I = m R^2 / 2. A bond of lambda = 1 has A = 2 R = 1.
+  DemParticles p = MakeDisks({{0.0, 0.0, 0.5}}, 1.0);
+  const double m = std::numbers::pi * 0.25, inertia = 0.5 * m * 0.25;
+  BondParams bonds;
+  bonds.normal_stiffness = 3.0e4;  // kn_b A = 3e4 beside kn = 1e4
+  bonds.shear_stiffness = 0.0;
+  bonds.radius_multiplier = 1.0;
+  bonds.tensile_strength = bonds.shear_strength = 1.0;
+  // kt = 0, ks_b = 0: translation sqrt(m / (kn + kn_b A)) = sqrt(m / 4e4) against the bond's
+  // bending sqrt(I / (kn_b A^3 / 12)) = sqrt(I / 2.5e3) = sqrt(m / 2e4): translation decides.
+  Result<double> dt = EstimateStableTimeStep(p, 1.0e4, 0.0, 0.5, &bonds);
+  ASSERT_TRUE(dt.ok());
+  EXPECT_DOUBLE_EQ(*dt, 0.5 * std::sqrt(m / 4.0e4));
+  // ks_b A R^2 = 1e5 * 0.25 and kt R^2 = 1e4 * 0.25 join the bending: rotation decides.
+  bonds.shear_stiffness = 1.0e5;
+  dt = EstimateStableTimeStep(p, 1.0e4, 1.0e4, 0.5, &bonds);
+  ASSERT_TRUE(dt.ok());
+  EXPECT_DOUBLE_EQ(*dt, 0.5 * std::sqrt(inertia / (1.1e5 * 0.25 + 3.0e4 / 12.0)));
+  // Without bonds the same call is the contact's step, twice as long.
+  EXPECT_DOUBLE_EQ(*EstimateStableTimeStep(p, 1.0e4, 0.0, 0.5), 0.5 * std::sqrt(m / 1.0e4));
+}
+
 TEST(DemContacts, PeriodicPairAcrossTheBoundaryPushesApart) {
   // Disks at x = 0.3 and x = 9.8 in [0, 10): 0.5 apart through the boundary, radii 0.3 each,
   // so they overlap by 0.1 and the force is kn * 0.1 along x, pushing 0 right and 1 left.

@@ -14,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "seep/core/flow/flow_diagnostics.h"
 #include "seep/core/run/simulation.h"
 
 namespace seep::core::terzaghi_probe {
@@ -78,14 +79,7 @@ inline std::vector<Sample> RunAndSample(const SceneSpec& scene, std::uint64_t ev
     sample.t = now.time_s();
     sample.settlement = wall0 - s.walls[kTopWall].py;
     if (s.has_network) {
-      const auto p = s.net.flow.pressure();
-      const auto vp = s.net.flow.pore_volume();
-      double pv = 0.0, v = 0.0;
-      for (std::size_t d = 0; d < s.net.domains.num_domains(); ++d) {
-        pv += p[d] * vp[d];
-        v += vp[d];
-      }
-      sample.mean_pressure = pv / v;
+      sample.mean_pressure = VolumeWeightedMeanPressure(s.net.flow, StorageVolume::kPore);
     }
     if (s.moves()) {
       const double width = s.walls[kRightWall].px - s.walls[kLeftWall].px;

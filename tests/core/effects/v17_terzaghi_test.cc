@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "seep/core/flow/flow_diagnostics.h"
 #include "seep/core/reference/terzaghi.h"
 #include "seep/core/run/simulation.h"
 #include "terzaghi_column_probe.h"
@@ -310,15 +311,7 @@ TEST(V20UndrainedLoading, SealedSampleTakesTheUndrainedShareOfTheLoad) {
   RunControl control;
   control.at_step_end = [&](const Simulation& now) {
     if (now.time_s() < 0.004) return;
-    const LiveState& state = now.stepper().state();
-    const auto p = state.net.flow.pressure();
-    const auto v = state.net.flow.apparent_volume();
-    double pv = 0.0, vv = 0.0;
-    for (std::size_t d = 0; d < state.net.domains.num_domains(); ++d) {
-      pv += p[d] * v[d];
-      vv += v[d];
-    }
-    sum += pv / vv;
+    sum += VolumeWeightedMeanPressure(now.stepper().state().net.flow, StorageVolume::kApparent);
     ++count;
   };
   ASSERT_TRUE(wet->Run(control).ok());

@@ -115,6 +115,16 @@ TEST(FlowNetwork, ZeroStorageOfAFreeDomainIsRefusedBySolvers) {
   EXPECT_NE(r.status().message().find("pore_volume[2]"), std::string::npos) << r.status().message();
 }
 
+TEST(FlowNetwork, VolumeWeightedMeanPressureWeighsByTheChosenVolume) {
+  FlowNetworkData d;
+  testing::AddDomain(d, /*apparent=*/4.0, /*pore=*/3.0, /*pressure=*/10.0);
+  testing::AddDomain(d, /*apparent=*/12.0, /*pore=*/1.0, /*pressure=*/20.0);
+  testing::AddPipe(d, 0, 1, 1e-3, 1e-5, 1e-9);
+  const FlowNetwork net = testing::MakeOrDie(d);
+  EXPECT_DOUBLE_EQ(VolumeWeightedMeanPressure(net, StorageVolume::kApparent), 17.5);  // 280/16
+  EXPECT_DOUBLE_EQ(VolumeWeightedMeanPressure(net, StorageVolume::kPore), 12.5);      // 50/4
+}
+
 TEST(FlowNetwork, MutationsDrawFreshVersionStamps) {
   FlowNetwork net = testing::MakeOrDie(ThreeDomains());
   FlowNetwork other = testing::MakeOrDie(ThreeDomains());

@@ -1,6 +1,6 @@
 // `seep plot --what particles` through the real seepd and seep binaries: a small hydraulic
 // fracturing scene (examples/hydraulic_fracturing.textproto on a 16 x 18 lattice, for 0.06 s) is
-// run to completion with a checkpoint every 400 steps, and its pictures at the end and at the first
+// run to completion with a checkpoint every 800 steps, and its pictures at the end and at the first
 // checkpoint are parsed back with python's XML parser. Each count in the picture is held against
 // a number that does not come from the picture's code: the particles against the result's
 // particle_count and the exported particles CSV, the broken bonds against the result's
@@ -132,7 +132,7 @@ std::string PaLabel(double value) {
 class ParticlePlotE2e : public SeepdFixture {
  protected:
   std::vector<std::string> ExtraSeepdFlags() const override {
-    return {"--workers", "1", "--checkpoint-every-steps", "400", "--checkpoints-kept", "100"};
+    return {"--workers", "1", "--checkpoint-every-steps", "800", "--checkpoints-kept", "100"};
   }
 
   // The fracturing example on a 16 x 18 lattice run twice as long: breakdown, the fracture, and
@@ -228,7 +228,7 @@ TEST_F(ParticlePlotE2e, PictureCountsMatchTheResultAndTheExportedFields) {
 
   // The first checkpoint, before the breakdown: every bond of the set-up intact, the same bonds
   // as at the end (broken ones are no longer in the DEM's table there, yet still drawn).
-  const std::uint64_t first_step = 400;  // --checkpoint-every-steps
+  const std::uint64_t first_step = 800;  // --checkpoint-every-steps
   ASSERT_GT(final_step, first_step);
   const std::string first_svg = (dir_ / "first.svg").string();
   r = Seep({"plot", id, "--what", "particles", "--step", std::to_string(first_step), "--out",
@@ -253,9 +253,9 @@ TEST_F(ParticlePlotE2e, ABadWhatOrAStepWithoutCheckpointIsAClearError) {
   EXPECT_NE(r.output.find("particles"), std::string::npos) << r.output;  // names the choices
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.svg"));
 
-  r = Seep({"plot", id, "--what", "particles", "--step", "401", "-o", (dir_ / "y.svg").string()});
+  r = Seep({"plot", id, "--what", "particles", "--step", "801", "-o", (dir_ / "y.svg").string()});
   EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_NE(r.output.find("no checkpoint at step 401; available steps: 400, 800"),
+  EXPECT_NE(r.output.find("no checkpoint at step 801; available steps: 800, 1600"),
             std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "y.svg"));

@@ -44,6 +44,11 @@ struct PressureRange {
 };
 PressureRange ComputePressureRange(const FlowNetwork& network);
 
+// sum P V / sum V over every domain, V the domain's pore (kPore) or apparent (kApparent) volume:
+// the sample-mean pressure an undrained or consolidation measurement reads (Pa; NaN when the
+// volumes sum to 0).
+double VolumeWeightedMeanPressure(const FlowNetwork& network, StorageVolume weight);
+
 // k = mu Q L / (H dp), m^2: Darcy permeability from the flow rate Q (m^2/s per unit thickness)
 // through a sample of length L along the flow and height H across it under a drop dp (Pa).
 Result<double> DarcyPermeability(double viscosity, double flow_rate, double length, double height,
