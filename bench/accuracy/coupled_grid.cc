@@ -25,11 +25,16 @@ constexpr double kExplicitDtFactor = 0.9;
 // stiffness (FlowEffectSpec::every_steps = 0) or to every_steps.
 constexpr double kImplicitDtFactor = 1e6;
 
+// The grid's base DEM step safety: its first, 0.5 when it lists none.
+double BaseSafety(const CoupledGrid& grid) {
+  return grid.dt_safety.empty() ? 0.5 : grid.dt_safety.front();
+}
+
 }  // namespace
 
 std::vector<CoupledChoice> CoupledChoices(const CoupledGrid& grid) {
   std::vector<CoupledChoice> out;
-  const double base_safety = grid.dt_safety.empty() ? 0.5 : grid.dt_safety.front();
+  const double base_safety = BaseSafety(grid);
   const core::SolverKind base = grid.base_solver;
   const core::SolverKind other = base == core::SolverKind::kImplicit ? core::SolverKind::kExplicit
                                                                      : core::SolverKind::kImplicit;
@@ -139,7 +144,7 @@ core::SceneSpec WalledLattice(const std::string& name, std::uint32_t columns, st
 
 std::vector<std::size_t> RealWaterBaseIndices(const std::vector<CoupledChoice>& choices,
                                               const CoupledGrid& grid) {
-  const double base_safety = grid.dt_safety.empty() ? 0.5 : grid.dt_safety.front();
+  const double base_safety = BaseSafety(grid);
   std::vector<std::size_t> base_of_size;  // per size index; choices.size() = none
   for (std::size_t i = 0; i < choices.size(); ++i) {
     const CoupledChoice& c = choices[i];
