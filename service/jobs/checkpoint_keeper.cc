@@ -73,16 +73,18 @@ core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
 core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   if (!enabled()) return core::Status::Ok();
   const auto start = std::chrono::steady_clock::now();
-  return WriteState(sim, SerializeSimulationState(sim.TakeSnapshot()), start);
+  return WriteState(sim, SerializeSimulationState(sim.TakeSnapshot()), start,
+                    CheckpointRole::kResumePoint);
 }
 
 core::Status CheckpointKeeper::Write(const core::Simulation& sim, std::string_view state) {
   if (!enabled()) return core::Status::Ok();
-  return WriteState(sim, state, std::chrono::steady_clock::now());
+  return WriteState(sim, state, std::chrono::steady_clock::now(), CheckpointRole::kFinalState);
 }
 
 core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::string_view state,
-                                          std::chrono::steady_clock::time_point start) {
+                                          std::chrono::steady_clock::time_point start,
+                                          CheckpointRole role) {
   last_step_ = sim.step();
   last_time_ = start;
   CheckpointMeta meta;
@@ -91,7 +93,7 @@ core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::stri
   meta.scene_sha256 = scene_sha256_;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
-  auto saved = ledger_.SaveCheckpoint(job_, meta, state, policy_.keep);
+  auto saved = ledger_.SaveCheckpoint(job_, meta, state, policy_.keep, role);
   if (!saved.ok()) {
     if (saved.status().code() == core::StatusCode::kAborted) return saved.status();
     log_->warn("checkpoint at step {} not kept: {}", sim.step(), saved.status().ToString());

@@ -55,7 +55,8 @@ class CheckpointKeeper {
   // as an event; the run goes on (its result is still correct, only less protected). A lost
   // lease is returned as ABORTED so the caller stops.
   core::Status Write(const core::Simulation& sim);
-  // The same with sim's state already serialized (SerializeSimulationState of its snapshot).
+  // The run's final state, already serialized (SerializeSimulationState of its snapshot); its
+  // outcome follows (CheckpointRole::kFinalState).
   core::Status Write(const core::Simulation& sim, std::string_view state);
 
   std::uint64_t written() const { return written_; }
@@ -64,7 +65,7 @@ class CheckpointKeeper {
  private:
   // Write's work, timed from `start` (seconds_writing).
   core::Status WriteState(const core::Simulation& sim, std::string_view state,
-                          std::chrono::steady_clock::time_point start);
+                          std::chrono::steady_clock::time_point start, CheckpointRole role);
   void Event(const std::string& kind, const std::string& message);
 
   JobLedger& ledger_;

@@ -31,6 +31,12 @@ struct FetchedCheckpoint {
   std::string name;  // the file's name in the ledger's folder, for logs and events
 };
 
+// What a checkpoint is kept for. kResumePoint: a run continues from it after an interruption,
+// so its record is durable at once. kFinalState: the state a run ended in (for exports and
+// forks), which its outcome (a durable Finish) follows: its record may wait for that commit, since
+// a power loss before it loses both and the job runs again.
+enum class CheckpointRole { kResumePoint, kFinalState };
+
 class JobLedger {
  public:
   virtual ~JobLedger() = default;
@@ -55,7 +61,8 @@ class JobLedger {
   // Returns the file's size in bytes.
   virtual core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job,
                                                     const CheckpointMeta& meta,
-                                                    std::string_view state, std::uint32_t keep) = 0;
+                                                    std::string_view state, std::uint32_t keep,
+                                                    CheckpointRole role) = 0;
   // The newest recorded checkpoint of the job below `below_step` (none: any) that verifies and
   // belongs to the job and its scene; those passed over are recorded as CHECKPOINT_SKIPPED
   // events. nullopt when there is none.

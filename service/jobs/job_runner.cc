@@ -11,6 +11,7 @@
 
 #include "codec/scene_codec.h"
 #include "codec/simulation_state_codec.h"
+#include "jobs/ending_slot.h"
 #include "jobs/wall_clock.h"
 #include "seep/core/run/simulation.h"
 #include "seep/core/threads.h"
@@ -186,7 +187,9 @@ void JobRunner::Wake() {
     std::lock_guard lock(mutex_);
     ++wake_count_;
   }
-  wake_.notify_one();
+  // Every idle worker: a sweep queues many jobs at once, and a worker not woken would sleep
+  // through them until its next poll.
+  wake_.notify_all();
 }
 
 void JobRunner::WorkerLoop(const std::stop_token& stop) {
@@ -195,6 +198,8 @@ void JobRunner::WorkerLoop(const std::stop_token& stop) {
   core::SetCoreThreadsForThisThread(options_.threads_per_job > 0
                                         ? options_.threads_per_job
                                         : core::CoreThreadsPerJob(options_.workers));
+  // Destroyed before the worker ends: the last job's end is recorded first.
+  EndingSlot endings;
   while (!stop.stop_requested()) {
     std::uint64_t seen;
     bool may_claim = true;
@@ -212,7 +217,7 @@ void JobRunner::WorkerLoop(const std::stop_token& stop) {
     if (may_claim) {
       auto claimed = ledger_.Claim(options_.lease_owner, options_.lease_duration);
       if (claimed.ok() && claimed->has_value()) {
-        RunJob(**claimed, stop);
+        RunJob(std::move(**claimed), stop, endings);
         std::lock_guard lock(mutex_);
         idle_since_ = std::chrono::steady_clock::now();
         continue;
@@ -236,7 +241,7 @@ void JobRunner::WorkerLoop(const std::stop_token& stop) {
       if (options_.on_work_done) options_.on_work_done();
       lock.lock();
     }
-    wake_.wait_for(lock, stop, std::chrono::seconds(1), [&] { return wake_count_ != seen; });
+    wake_.wait_for(lock, stop, options_.idle_poll, [&] { return wake_count_ != seen; });
   }
 }
 
@@ -262,7 +267,7 @@ bool JobRunner::Running::StopIfLeaseLost(const core::Status& s) {
   return true;
 }
 
-void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
+void JobRunner::RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlot& endings) {
   auto running = std::make_shared<Running>();
   running->epoch = job.lease_epoch;
   running->log = logger_->clone("job-" + job.id);
@@ -284,11 +289,19 @@ void JobRunner::RunJob(const JobRecord& job, const std::stop_token& shutdown) {
                        job.lease_epoch));
   if (job.kind == JobKind::kCalibration) {
     RunCalibration(job, *running);
+    Ended(job.id, *running);
   } else {
-    RunSimulation(job, *running);
+    // The run is over; its end is recorded on the slot's thread while this worker claims the
+    // next job (the job stays registered, its lease held, until Conclude).
+    endings.Hand(RunSimulation(std::move(job), running));
   }
-  Unregister(job.id, *running);
-  if (!running->lease_lost) hub_.Finished(job.id);  // else the rescuer did, or a new claim runs
+}
+
+void JobRunner::Ended(const std::string& id, const Running& running) {
+  Unregister(id, running);
+  if (!running.lease_lost) hub_.Finished(id);  // else the rescuer did, or a new claim runs
+  // A worker process that ends by itself checks whether its work is done when woken.
+  if (options_.max_jobs > 0 || options_.exit_when_idle.count() > 0) Wake();
 }
 
 void JobRunner::Unregister(const std::string& id, const Running& running) {
@@ -297,11 +310,31 @@ void JobRunner::Unregister(const std::string& id, const Running& running) {
   if (it != running_.end() && it->second.get() == &running) running_.erase(it);
 }
 
-void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
-  const std::shared_ptr<spdlog::logger>& log = running.log;
-  CheckpointKeeper keeper(ledger_, options_.checkpoints, job, options_.build_id, log);
+// What a simulation job's end needs once its run is over: it outlives RunSimulation, for the
+// ending that a worker's EndingSlot records while the worker runs its next job.
+struct JobRunner::SimulationRun {
+  SimulationRun(JobRunner& runner, JobRecord claimed, std::shared_ptr<Running> run)
+      : job(std::move(claimed)),
+        running(std::move(run)),
+        keeper(runner.ledger_, runner.options_.checkpoints, job, runner.options_.build_id,
+               running->log) {}
+
+  JobRecord job;  // before keeper, which refers to it
+  std::shared_ptr<Running> running;
+  CheckpointKeeper keeper;
   std::optional<core::Simulation> sim;
-  const core::Status outcome = CatchAll([&]() -> core::Status {
+  core::Status outcome;
+};
+
+std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
+                                               const std::shared_ptr<Running>& registered) {
+  auto run = std::make_shared<SimulationRun>(*this, std::move(claimed), registered);
+  const JobRecord& job = run->job;
+  Running& running = *run->running;
+  CheckpointKeeper& keeper = run->keeper;
+  std::optional<core::Simulation>& sim = run->sim;
+  const std::shared_ptr<spdlog::logger>& log = running.log;
+  run->outcome = CatchAll([&]() -> core::Status {
     v1::Scene scene_pb;
     if (!scene_pb.ParseFromString(job.scene)) {
       return core::DataLoss("stored scene bytes do not parse as seep.v1.Scene");
@@ -349,20 +382,38 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     const bool stall = !options_.test_stall_job.empty() && job.name == options_.test_stall_job &&
                        job.lease_epoch == 1;
     const bool crash = !options_.test_crash_job.empty() && job.name == options_.test_crash_job;
+    // Steps are counted into the shared metric in batches: an atomic add per step from every
+    // worker would bounce one cache line between the cores at every step.
+    constexpr std::uint64_t kStepsPerMetricUpdate = 64;
+    std::uint64_t uncounted_steps = 0;
     control.at_step_end = [&](const core::Simulation& at) {
       if (stall && at.step() == resumed_from + kTestStallStep) StallForTest(running);
       if (crash && at.step() == resumed_from + kTestStallStep) {
         log->critical("test hook --test-crash-job: ending the process");
         std::_Exit(86);
       }
-      if (options_.metrics != nullptr) options_.metrics->AddSteps(1);
+      if (options_.metrics != nullptr && ++uncounted_steps == kStepsPerMetricUpdate) {
+        options_.metrics->AddSteps(uncounted_steps);
+        uncounted_steps = 0;
+      }
       if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
       ++running.ticks;
       running.StopIfLeaseLost(keeper.MaybeWrite(at));
     };
-    return sim->Run(control);
+    core::Status ran = sim->Run(control);
+    if (options_.metrics != nullptr) options_.metrics->AddSteps(uncounted_steps);
+    return ran;
   });
+  return [this, run] { ConcludeSimulation(*run); };
+}
 
+void JobRunner::ConcludeSimulation(SimulationRun& run) {
+  const JobRecord& job = run.job;
+  Running& running = *run.running;
+  CheckpointKeeper& keeper = run.keeper;
+  std::optional<core::Simulation>& sim = run.sim;
+  const core::Status& outcome = run.outcome;
+  const std::shared_ptr<spdlog::logger>& log = running.log;
   Ending ending;
   ending.kind = "";
   ending.keep_state = [&](bool stopped) {
@@ -416,6 +467,7 @@ void JobRunner::RunSimulation(const JobRecord& job, Running& running) {
     return Status::Ok();
   };
   Conclude(job, running, outcome, ending);
+  Ended(job.id, running);
 }
 
 void JobRunner::PublishProgress(const std::string& id, Running& running,

@@ -14,7 +14,9 @@
 // when they are stopped, and a claimed job continues from its newest usable checkpoint: after a
 // crash, a shutdown, a cancel or a failure followed by ResumeJob. Calibration jobs
 // (job_runner_calibration.cc) are short and write no checkpoints: after a restart or a resume they
-// run again from the start, and their records replace the earlier ones.
+// run again from the start, and their records replace the earlier ones. A simulation's end (its
+// last checkpoint, result and terminal state, mostly waits on fsync) is recorded by its worker's
+// EndingSlot while the worker claims and runs its next job; the job keeps its lease until then.
 //
 // Every write a worker makes goes through a JobLedger (jobs/job_ledger.h): seepd's StoreLedger,
 // or in seep-worker the RemoteLedger that makes the same calls over gRPC. The runner of a remote
@@ -35,6 +37,7 @@
 #include <vector>
 
 #include "jobs/checkpoint_keeper.h"
+#include "jobs/ending_slot.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_ledger.h"
 #include "jobs/test_crash_points.h"
@@ -56,6 +59,8 @@ struct JobRunnerOptions {
   // How long a lease lasts without a renewal; it must exceed the longest stretch of work without
   // progress (one step, a scene's set-up).
   std::chrono::milliseconds lease_duration{30000};
+  // How often an idle worker looks for a job without being woken (in case a wake-up was missed).
+  std::chrono::milliseconds idle_poll{1000};
   // How often the heartbeat renews leases and the rescuer looks for expired ones.
   std::chrono::milliseconds heartbeat_interval{2000};
   // Wall time one claim of a job may run before it is FAILED with DEADLINE_EXCEEDED; 0 = none.
@@ -103,7 +108,7 @@ class JobRunner {
   void Start();
   // Stops claiming, interrupts running jobs at their next step and joins the workers.
   void Stop();
-  // A job was queued: wake an idle worker.
+  // Jobs were queued: wake the idle workers.
   void Wake();
   // Asks the worker running this job (if it runs here) to stop it and record CANCELLED.
   void CancelRunning(const std::string& id);
@@ -153,13 +158,19 @@ class JobRunner {
   // Test only (test_stall_job): blocks, making no progress and deaf to shutdown (as a worker
   // stuck in a step), until it is told it lost the lease.
   void StallForTest(Running& running);
-  void RunJob(const JobRecord& job, const std::stop_token& shutdown);
+  // Runs a claimed job; a simulation's end is handed to `endings` (recorded on its thread).
+  void RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlot& endings);
+  // After a job's end is recorded: forgotten, its followers told, an idle worker woken.
+  void Ended(const std::string& id, const Running& running);
   // Forgets `running` if it is still the job's registered run (a rescued job may be claimed
   // again, by another worker, before its hung worker ends).
   void Unregister(const std::string& id, const Running& running);
-  // A simulation job: its scene decoded, resumed from its newest usable checkpoint, run with
-  // periodic checkpoints, and its end recorded.
-  void RunSimulation(const JobRecord& job, Running& running);
+  // A simulation job: its scene decoded, resumed from its newest usable checkpoint and run with
+  // periodic checkpoints. Returns the recording of its end (ConcludeSimulation), to run later.
+  struct SimulationRun;
+  std::function<void()> RunSimulation(JobRecord job, const std::shared_ptr<Running>& running);
+  // A simulation's end: its last checkpoint, result series and terminal state (Conclude).
+  void ConcludeSimulation(SimulationRun& run);
   // A calibration job (job_runner_calibration.cc): calibrates every target with the job's stop
   // token, then records the records and the terminal state, each fenced by the lease epoch.
   void RunCalibration(const JobRecord& job, Running& running);

@@ -20,7 +20,10 @@ StoreLedger::StoreLedger(JobStore& store, std::filesystem::path checkpoint_dir,
 
 core::Result<std::optional<JobRecord>> StoreLedger::Claim(const std::string& owner,
                                                           std::chrono::milliseconds lease) {
-  return store_.ClaimNextQueued(owner, NowMs(), lease.count());
+  // Relaxed: the claimer is a worker of this process, so a power loss that undoes the claim
+  // also ends the worker; the job is queued again and its epoch is never held twice.
+  return store_.ClaimNextQueued(owner, NowMs(), lease.count(), std::nullopt, std::nullopt,
+                                CommitSync::kRelaxed);
 }
 
 core::Result<bool> StoreLedger::Heartbeat(const std::string& id, std::int64_t epoch,
@@ -44,7 +47,8 @@ core::Status StoreLedger::AddEvent(const std::string& id, std::int64_t epoch,
 
 core::Result<std::int64_t> StoreLedger::SaveCheckpoint(const JobRecord& job,
                                                        const CheckpointMeta& meta,
-                                                       std::string_view state, std::uint32_t keep) {
+                                                       std::string_view state, std::uint32_t keep,
+                                                       CheckpointRole role) {
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::absolute(checkpoint_dir_ / job.id, ec);
   const std::filesystem::path path = dir / fmt::format("ckpt-{:012}.bin", meta.step);
@@ -61,8 +65,11 @@ core::Result<std::int64_t> StoreLedger::SaveCheckpoint(const JobRecord& job,
   // Unrecorded (a lost lease, a store error), the file is left alone: a newer claim may have
   // written and recorded the same step under the same name, and the start-up sweep removes
   // orphans.
-  SEEP_ASSIGN_OR_RETURN(const std::vector<CheckpointRecord> dropped,
-                        store_.RecordCheckpoint(job.id, job.lease_epoch, record, keep));
+  SEEP_ASSIGN_OR_RETURN(
+      const std::vector<CheckpointRecord> dropped,
+      store_.RecordCheckpoint(
+          job.id, job.lease_epoch, record, keep,
+          role == CheckpointRole::kFinalState ? CommitSync::kRelaxed : CommitSync::kDurable));
   for (const CheckpointRecord& old : dropped) {
     // The one just written may be among them (when stale newer records outrank it): keep it.
     if (old.step != record.step) std::filesystem::remove(old.path, ec);

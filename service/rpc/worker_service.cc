@@ -275,7 +275,7 @@ grpc::Status WorkerServiceImpl::ReceiveCheckpoint(
   meta.scene_sha256 = Sha256(job.scene);  // the stored scene's, not the worker's word for it
   meta.step = start.step();
   meta.time_s = start.time_s();
-  auto kept = ledger_.SaveCheckpoint(job, meta, state, start.keep());
+  auto kept = ledger_.SaveCheckpoint(job, meta, state, start.keep(), CheckpointRole::kResumePoint);
   if (!kept.ok()) return ToGrpcStatus(kept.status());
   response->set_file_bytes(*kept);
   return grpc::Status::OK;

@@ -530,9 +530,11 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
 
 Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
     const std::string& owner, std::int64_t now_ms, std::int64_t lease_ms,
-    std::optional<JobKind> kind, const std::optional<WorkerPlacement>& placement) {
+    std::optional<JobKind> kind, const std::optional<WorkerPlacement>& placement, CommitSync sync) {
   const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
+  std::optional<RelaxedCommit> relaxed;
+  if (sync == CommitSync::kRelaxed) relaxed.emplace(*db_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
       Stmt s,

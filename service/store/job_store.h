@@ -75,6 +75,11 @@ struct CrashLoopFailure {
   std::string message;
 };
 
+// How a commit reaches the disk. kDurable: synced (it survives a power loss). kRelaxed: written
+// but not synced, so it survives a crash of the process, not a power loss, and the next durable
+// commit makes it durable too (WAL frames are synced in order).
+enum class CommitSync { kDurable, kRelaxed };
+
 class JobStore {
  public:
   static constexpr int kSchemaVersion = 12;
@@ -107,10 +112,14 @@ class JobStore {
   // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it; with `kind` set,
   // only a job of that kind (a remote worker runs simulations only). `placement`: where the
   // claiming remote worker runs (its batch job and node), recorded with the job (none: cleared).
+  // `sync`: kRelaxed only for a claim whose holder dies with this process (seepd's own
+  // workers): lost to a power loss, the job is simply queued again, and no live worker can hold
+  // an epoch the store forgot.
   Result<std::optional<JobRecord>> ClaimNextQueued(
       const std::string& owner, std::int64_t now_ms, std::int64_t lease_ms,
       std::optional<JobKind> kind = std::nullopt,
-      const std::optional<WorkerPlacement>& placement = std::nullopt);
+      const std::optional<WorkerPlacement>& placement = std::nullopt,
+      CommitSync sync = CommitSync::kDurable);
   // Worker writes, each fenced by the lease epoch of the claim: a worker whose lease was taken
   // over (or whose job is no longer RUNNING) gets ABORTED and must stop the job.
   // Heartbeat extends the lease to expires_at_ms and returns whether a cancel was requested.
@@ -173,9 +182,11 @@ class JobStore {
   // already removed from the store, whose files the caller deletes. A path inside the data
   // folder is stored relative to it (elsewhere: absolute); every record the store returns has
   // its path resolved against the data folder as it is now, absolute and normalized.
+  // `sync`: kRelaxed for a run's final state only, whose outcome (a durable Finish) follows.
   Result<std::vector<CheckpointRecord>> RecordCheckpoint(const std::string& id, std::int64_t epoch,
                                                          const CheckpointRecord& checkpoint,
-                                                         std::uint32_t keep);
+                                                         std::uint32_t keep,
+                                                         CommitSync sync = CommitSync::kDurable);
   // Newest (highest step) first.
   Result<std::vector<CheckpointRecord>> ListCheckpoints(const std::string& id);
   // The resolved path of every recorded checkpoint file of every job (for the start-up sweep).

@@ -109,9 +109,12 @@ Status JobStore::InsertCheckpointLocked(const std::string& id, const CheckpointR
 Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::string& id,
                                                                  std::int64_t epoch,
                                                                  const CheckpointRecord& checkpoint,
-                                                                 std::uint32_t keep) {
+                                                                 std::uint32_t keep,
+                                                                 CommitSync sync) {
   const StoreOperation operation("record checkpoint");
   std::lock_guard lock(mutex_);
+  std::optional<RelaxedCommit> relaxed;
+  if (sync == CommitSync::kRelaxed) relaxed.emplace(*db_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
   SEEP_RETURN_IF_ERROR(InsertCheckpointLocked(id, checkpoint));

@@ -140,7 +140,10 @@ class WriteTx {
 // the commit returns), and order is kept: the WAL is appended in order, recovery stops at the
 // first frame missing, and the next durable commit's fsync makes every frame before it durable,
 // so such a write is lost only together with every later one that was not yet durable either.
-// Not for claims (a lease epoch that could be handed out twice), outcomes or checkpoint records.
+// Not for outcomes, nor for claims a worker outside this process holds (a lease epoch that could
+// be handed out twice) or periodic checkpoint records (a long run could lose every one of them);
+// a final checkpoint's record, which its job's outcome follows, and a claim of seepd's own
+// workers (they die with it, and the job is queued again) may (JobStore's CommitSync).
 class RelaxedCommit {
  public:
   explicit RelaxedCommit(Db& db);

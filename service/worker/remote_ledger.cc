@@ -177,8 +177,9 @@ core::Status RemoteLedger::AddEvent(const std::string& id, std::int64_t epoch,
 
 core::Result<std::int64_t> RemoteLedger::SaveCheckpoint(const JobRecord& job,
                                                         const CheckpointMeta& meta,
-                                                        std::string_view state,
-                                                        std::uint32_t keep) {
+                                                        std::string_view state, std::uint32_t keep,
+                                                        CheckpointRole /*role*/) {
+  // The coordinator records every uploaded checkpoint durably: its upload says nothing of it.
   auto ctx = Context(timeout_ * kTransferTimeoutFactor);
   v1::UploadCheckpointResponse response;
   auto writer = stub_->UploadCheckpoint(ctx.get(), &response);

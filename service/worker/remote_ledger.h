@@ -40,7 +40,8 @@ class RemoteLedger final : public JobLedger {
   core::Status AddEvent(const std::string& id, std::int64_t epoch, const std::string& kind,
                         const std::string& message) override;
   core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job, const CheckpointMeta& meta,
-                                            std::string_view state, std::uint32_t keep) override;
+                                            std::string_view state, std::uint32_t keep,
+                                            CheckpointRole role) override;
   core::Result<std::optional<FetchedCheckpoint>> NewestCheckpoint(
       const JobRecord& job, std::optional<std::uint64_t> below_step) override;
   core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
