@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "codec/simulation_state_codec.h"
+#include "jobs/wall_clock.h"
 
 namespace seep::service {
 CheckpointKeeper::CheckpointKeeper(JobLedger& ledger, const CheckpointPolicy& policy,
@@ -64,8 +65,9 @@ std::optional<std::uint64_t> CheckpointKeeper::RestoreNewest(core::Simulation& s
 core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
   if (!enabled() || sim.finished()) return core::Status::Ok();  // the end writes its own
   const bool by_steps = policy_.every_steps > 0 && sim.step() - last_step_ >= policy_.every_steps;
-  const bool by_time = policy_.interval.count() > 0 &&
-                       std::chrono::steady_clock::now() - last_time_ >= policy_.interval;
+  // Coarse (a tick late at most): this runs at every step.
+  const bool by_time =
+      policy_.interval.count() > 0 && CoarseSteadyNow() - last_time_ >= policy_.interval;
   if (!by_steps && !by_time) return core::Status::Ok();
   return Write(sim);
 }
