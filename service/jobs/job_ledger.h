@@ -43,6 +43,7 @@ class JobLedger {
 
   // The queued job of highest priority, moved to RUNNING under a new lease of `owner` that
   // lasts `lease` (the ledger's clock), or nullopt when none is queued.
+  // The ledger records the CLAIMED event with the claim.
   virtual core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
                                                        std::chrono::milliseconds lease) = 0;
   // Renews the lease: afterwards it has at least half of `lease` to run (a ledger may keep an
@@ -69,11 +70,13 @@ class JobLedger {
   virtual core::Result<std::optional<FetchedCheckpoint>> NewestCheckpoint(
       const JobRecord& job, std::optional<std::uint64_t> below_step) = 0;
 
-  // A run that succeeded: its time series and final-state hash, stored before Finish.
+  // A run that succeeded: its time series, final-state hash and where it ended (the progress at
+  // its last step), stored before Finish.
   virtual core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
                                          const std::vector<std::string>& columns,
                                          const std::vector<double>& values,
-                                         const std::string& state_sha256) = 0;
+                                         const std::string& state_sha256,
+                                         const JobProgress& final_progress) = 0;
   // The terminal state with its metrics (SUCCEEDED) or its error (FAILED, CANCELLED).
   virtual core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                               const std::string& error_code, const std::string& error_message,

@@ -278,15 +278,14 @@ void JobRunner::RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlo
   }
   // Shutdown stops this job too, but is told apart from a cancel by the flags below.
   std::stop_callback on_shutdown(shutdown, [&running] { running->stop.request_stop(); });
-  // A cancel stored between the claim and the registration above is seen here.
-  Renew(job.id, *running);
+  // A cancel stored between the claim and the registration above is seen at the first
+  // heartbeat. (Not renewed here: from a remote worker that would open a lease stream for every
+  // job, most of what a short job cost the coordinator.)
   hub_.RecordChanged(job.id);  // QUEUED -> RUNNING, for its followers
   hub_.Publish(job.id, job.progress);
+  // (Its CLAIMED event was recorded with the claim, by the ledger.)
   running->log->info("started '{}' (attempt {}, lease epoch {})", job.name, job.attempt,
                      job.lease_epoch);
-  AddEvent(job.id, *running, "CLAIMED",
-           fmt::format("attempt {} by {} (lease epoch {})", job.attempt, options_.lease_owner,
-                       job.lease_epoch));
   if (job.kind == JobKind::kCalibration) {
     RunCalibration(job, *running);
     Ended(job.id, *running);
@@ -348,8 +347,13 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
     ++running.ticks;  // set-up done
     // A fork always continues from a checkpoint (its first one is its parent's, copied at
     // submit), even when this runner writes none; from the start it would not be that fork.
+    // Any other job's first claim (lease epoch 1: epochs only grow, resumes included) has none to
+    // look for: every checkpoint is written under a claim.
     std::optional<std::uint64_t> restored;
-    if (keeper.enabled() || job.parent_job_id) restored = keeper.RestoreNewest(*sim);
+    const bool may_have_checkpoints = job.parent_job_id || job.lease_epoch > 1;
+    if ((keeper.enabled() && may_have_checkpoints) || job.parent_job_id) {
+      restored = keeper.RestoreNewest(*sim);
+    }
     if (!restored && job.parent_job_id) {
       return core::FailedPrecondition(fmt::format(
           "a fork starts from its parent job {}'s checkpoint at step {} (copied as its first "
@@ -448,13 +452,12 @@ void JobRunner::ConcludeSimulation(SimulationRun& run) {
     done.step = report.steps;
     done.time_s = report.time_s;
     done.fraction_done = 1.0;
-    if (auto s = ledger_.UpdateProgress(job.id, running.epoch, ProgressOf(done, 0.0)); !s.ok()) {
-      log->warn("final progress not stored: {}", s.ToString());
-    }
+    const JobProgress final_progress = ProgressOf(done, 0.0);
     const std::string state_sha256 = HexSha256(state);
     const auto write_result = [&]() -> Status {
       SEEP_RETURN_IF_ERROR(ledger_.StoreResultSeries(job.id, running.epoch, report.series.columns,
-                                                     report.series.values, state_sha256));
+                                                     report.series.values, state_sha256,
+                                                     final_progress));
       if (options_.crash_points != nullptr) {
         options_.crash_points->Reach(TestCrashPoints::kResultSeries);
       }

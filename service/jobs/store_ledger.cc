@@ -103,8 +103,9 @@ core::Result<std::optional<FetchedCheckpoint>> StoreLedger::NewestCheckpoint(
 core::Status StoreLedger::StoreResultSeries(const std::string& id, std::int64_t epoch,
                                             const std::vector<std::string>& columns,
                                             const std::vector<double>& values,
-                                            const std::string& state_sha256) {
-  return store_.StoreResultSeries(id, epoch, columns, values, state_sha256);
+                                            const std::string& state_sha256,
+                                            const JobProgress& final_progress) {
+  return store_.StoreResultSeries(id, epoch, columns, values, state_sha256, &final_progress);
 }
 
 core::Status StoreLedger::Finish(const std::string& id, std::int64_t epoch, JobState state,

@@ -37,8 +37,8 @@ class StoreLedger final : public JobLedger {
       const JobRecord& job, std::optional<std::uint64_t> below_step) override;
   core::Status StoreResultSeries(const std::string& id, std::int64_t epoch,
                                  const std::vector<std::string>& columns,
-                                 const std::vector<double>& values,
-                                 const std::string& state_sha256) override;
+                                 const std::vector<double>& values, const std::string& state_sha256,
+                                 const JobProgress& final_progress) override;
   core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                       const std::string& error_code, const std::string& error_message,
                       const std::vector<std::pair<std::string, double>>& metrics,

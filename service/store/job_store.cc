@@ -560,6 +560,9 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
   const std::string id = s.ColumnText(0);
   SEEP_RETURN_IF_ERROR(s.Run());
   SEEP_ASSIGN_OR_RETURN(JobRecord job, GetLocked(id, /*with_scene=*/true));
+  SEEP_RETURN_IF_ERROR(AddEventLocked(
+      *db_, id, now_ms, "CLAIMED",
+      fmt::format("attempt {} by {} (lease epoch {})", job.attempt, owner, job.lease_epoch)));
   SEEP_RETURN_IF_ERROR(tx.Commit());
   return std::optional<JobRecord>(std::move(job));
 }
@@ -608,6 +611,11 @@ Status JobStore::UpdateProgress(const std::string& id, std::int64_t epoch,
   const StoreOperation operation("update progress");
   std::lock_guard lock(mutex_);
   const RelaxedCommit relaxed(*db_);  // live progress; a resume restores it from a checkpoint
+  return UpdateProgressLocked(id, epoch, progress);
+}
+
+Status JobStore::UpdateProgressLocked(const std::string& id, std::int64_t epoch,
+                                      const JobProgress& progress) {
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("UPDATE jobs SET step = ?, time_s = ?, fraction_done = "
                                      "?, stage_index = ?, stage_count = ?, stage_name = ? WHERE "

@@ -109,7 +109,8 @@ class JobStore {
                        const JobFilter& filter = {});
 
   // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
-  // held by owner until now_ms + lease_ms (lease_epoch + 1) and returns it; with `kind` set,
+  // held by owner until now_ms + lease_ms (lease_epoch + 1), records its CLAIMED event in the
+  // same transaction, and returns it; with `kind` set,
   // only a job of that kind (a remote worker runs simulations only). `placement`: where the
   // claiming remote worker runs (its batch job and node), recorded with the job (none: cleared).
   // `sync`: kRelaxed only for a claim whose holder dies with this process (seepd's own
@@ -192,10 +193,12 @@ class JobStore {
   // The resolved path of every recorded checkpoint file of every job (for the start-up sweep).
   Result<std::vector<std::filesystem::path>> AllCheckpointPaths();
   // The time series and final-state hash of a run that succeeded, fenced by the lease epoch;
-  // stored before Finish so that a job is never SUCCEEDED without them.
+  // stored before Finish so that a job is never SUCCEEDED without them. With final_progress,
+  // where the run ended is stored in the same transaction (else the progress stays).
   Status StoreResultSeries(const std::string& id, std::int64_t epoch,
                            const std::vector<std::string>& columns,
-                           const std::vector<double>& values, const std::string& state_sha256);
+                           const std::vector<double>& values, const std::string& state_sha256,
+                           const JobProgress* final_progress = nullptr);
   // The job's event log, oldest first (the store adds SUBMITTED, CHECKPOINT, the outcome and
   // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
@@ -263,6 +266,9 @@ class JobStore {
   Result<SweepRecord> GetSweepLocked(const std::string& id);
   Status ReadLabelsLocked(std::vector<JobRecord>& jobs);
   Status ReadResultSeriesLocked(JobRecord& job);
+  // UpdateProgress's statement, mutex_ held (ABORTED unless RUNNING under `epoch`).
+  Status UpdateProgressLocked(const std::string& id, std::int64_t epoch,
+                              const JobProgress& progress);
   // Records (or replaces) one checkpoint row of job `id`, inside the caller's transaction.
   Status InsertCheckpointLocked(const std::string& id, const CheckpointRecord& checkpoint);
   // The ids of the jobs forked from `id`, oldest first.

@@ -176,7 +176,8 @@ Result<std::vector<std::filesystem::path>> JobStore::AllCheckpointPaths() {
 Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
                                    const std::vector<std::string>& columns,
                                    const std::vector<double>& values,
-                                   const std::string& state_sha256) {
+                                   const std::string& state_sha256,
+                                   const JobProgress* final_progress) {
   for (const auto& c : columns) {
     if (c.empty() || c.find(',') != std::string::npos) {
       return core::InvalidArgument(
@@ -197,6 +198,9 @@ Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
       .BindBlob(3, DoublesToBlob(values))
       .Bind(4, std::string_view(state_sha256));
   SEEP_RETURN_IF_ERROR(s.Run());
+  if (final_progress != nullptr) {
+    SEEP_RETURN_IF_ERROR(UpdateProgressLocked(id, epoch, *final_progress));
+  }
   return tx.Commit();
 }
 

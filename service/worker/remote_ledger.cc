@@ -259,12 +259,15 @@ core::Result<std::optional<FetchedCheckpoint>> RemoteLedger::NewestCheckpoint(
 core::Status RemoteLedger::StoreResultSeries(const std::string& id, std::int64_t epoch,
                                              const std::vector<std::string>& columns,
                                              const std::vector<double>& values,
-                                             const std::string& state_sha256) {
+                                             const std::string& state_sha256,
+                                             const JobProgress& final_progress) {
   v1::StoreResultSeriesRequest request;
   SetLease(id, epoch, request.mutable_lease());
   request.mutable_columns()->Assign(columns.begin(), columns.end());
   request.mutable_values()->Assign(values.begin(), values.end());
   request.set_state_sha256(state_sha256);
+  // With the series, not as a beat: a short job then never opens a KeepLease stream.
+  ProgressToProto(final_progress, request.mutable_final_progress());
   v1::StoreResultSeriesResponse response;
   return FromGrpcStatus("StoreResultSeries",
                         stub_->StoreResultSeries(Context(timeout_).get(), request, &response));

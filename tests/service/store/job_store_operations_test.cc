@@ -366,13 +366,16 @@ TEST_F(StoreOperations, EventsRecordTheJobsLifeAndPageByCursor) {
   const auto events = store_->ListEvents("a").value();
   std::vector<std::string> kinds;
   for (const JobEventRecord& e : events) kinds.push_back(e.kind);
-  EXPECT_EQ(kinds, (std::vector<std::string>{"SUBMITTED", "CHECKPOINT", "CANCEL_REQUESTED",
-                                             "CANCELLED", "RESUME_REQUESTED"}));
-  EXPECT_EQ(events[1].message, "step 10 (t = 0 s), 100 bytes, attempt 1");
-  EXPECT_EQ(events[3].message, "CANCELLED: by the user");
-  EXPECT_EQ(events[3].at_ms, 300);
-  EXPECT_EQ(events[4].message, "attempt 2 queued (was CANCELLED)");
-  const auto page = store_->ListEvents("a", events[1].id, 2).value();
+  EXPECT_EQ(kinds, (std::vector<std::string>{"SUBMITTED", "CLAIMED", "CHECKPOINT",
+                                             "CANCEL_REQUESTED", "CANCELLED", "RESUME_REQUESTED"}));
+  // The claim records itself, in its own transaction.
+  EXPECT_EQ(events[1].message, "attempt 1 by w (lease epoch 1)");
+  EXPECT_EQ(events[1].at_ms, 100);
+  EXPECT_EQ(events[2].message, "step 10 (t = 0 s), 100 bytes, attempt 1");
+  EXPECT_EQ(events[4].message, "CANCELLED: by the user");
+  EXPECT_EQ(events[4].at_ms, 300);
+  EXPECT_EQ(events[5].message, "attempt 2 queued (was CANCELLED)");
+  const auto page = store_->ListEvents("a", events[2].id, 2).value();
   ASSERT_EQ(page.size(), 2u);
   EXPECT_EQ(page[0].kind, "CANCEL_REQUESTED");
   EXPECT_EQ(page[1].kind, "CANCELLED");
