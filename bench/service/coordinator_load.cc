@@ -2,16 +2,16 @@
 // remote workers. A pure coordinator (seepd --workers 0) holds `queued_jobs` queued simulation
 // jobs (one sweep, submitted before anything is measured); `simulated_workers` threads, each with
 // its own gRPC channel, speak the real seep.v1.WorkerService as seep-worker's runner does for a
-// job, without the physics: ClaimJob, AddJobEvent CLAIMED, then a KeepLease stream beating every
-// heartbeat_s (progress on every other beat), and after a number of beats drawn per job around
-// heartbeats_per_job (from half of it to one and a half times it, so that the workers' claims do
-// not fall in step) the stream closed, StoreResultSeries and FinishJob SUCCEEDED, then the next
-// claim. Their starts are spread over one heartbeat interval, as independent workers' would be;
-// a worker whose job would outlast the window stops there (it claims nothing more). Over the
-// measured window (after a warm-up in which every worker takes its first job) seepd's CPU time
-// is read from /proc/<pid>/stat, and every call's latency is recorded from the client side.
-// Limits (issue 18): seepd CPU <= 5 % of one core, ClaimJob (the lease) p99 <= 20 ms, no failed
-// call.
+// job, without the physics: ClaimJob (which records the CLAIMED event itself), then a KeepLease
+// stream beating every heartbeat_s (progress on every other beat), and after a number of beats
+// drawn per job around heartbeats_per_job (from half of it to one and a half times it, so that
+// the workers' claims do not fall in step) the stream closed, StoreResultSeries with the final
+// progress and FinishJob SUCCEEDED, then the next claim. Their starts are spread over one heartbeat
+// interval, as independent workers' would be; a worker whose job would outlast the window stops
+// there (it claims nothing more). Over the measured window (after a warm-up in which every worker
+// takes its first job) seepd's CPU time is read from /proc/<pid>/stat, and every call's latency is
+// recorded from the client side. Limits (issue 18): seepd CPU <= 5 % of one core, ClaimJob (the
+// lease) p99 <= 20 ms, no failed call.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -113,19 +113,9 @@ class SimulatedWorker {
     v1::LeaseRef lease;
     lease.set_job_id(job.id());
     lease.set_lease_epoch(job.lease_epoch());
-    grpc::Status status = Call("AddJobEvent", [&](grpc::ClientContext& ctx) {
-      v1::AddJobEventRequest request;
-      *request.mutable_lease() = lease;
-      request.set_kind("CLAIMED");
-      request.set_message(fmt::format("attempt {} by {} (lease epoch {})", job.attempt(), name_,
-                                      job.lease_epoch()));
-      v1::AddJobEventResponse response;
-      return stub_->AddJobEvent(&ctx, request, &response);
-    });
-    if (!status.ok()) return false;
     const int heartbeats = lengths_(random_);
     if (!KeepLease(lease, heartbeats)) return false;
-    status = Call("StoreResultSeries", [&](grpc::ClientContext& ctx) {
+    grpc::Status status = Call("StoreResultSeries", [&](grpc::ClientContext& ctx) {
       v1::StoreResultSeriesRequest request;
       *request.mutable_lease() = lease;
       request.add_columns("time_s");
@@ -135,6 +125,8 @@ class SimulatedWorker {
         request.add_values(1e-6);
       }
       request.set_state_sha256(std::string(64, 'a'));
+      request.mutable_final_progress()->set_step(static_cast<std::uint64_t>(heartbeats));
+      request.mutable_final_progress()->set_fraction_done(1.0);
       v1::StoreResultSeriesResponse response;
       return stub_->StoreResultSeries(&ctx, request, &response);
     });

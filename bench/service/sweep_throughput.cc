@@ -7,8 +7,8 @@
 //      no store, no checkpoint, no hash;
 //   b. on local workers (--sweep-on local or both): one sweep submitted to a seepd with `lanes`
 //      workers of its own of one core thread each (--workers N --threads-per-job 1, its default
-//      lease and checkpoint settings), with everything a job does there: claim, events,
-//      heartbeats, its final checkpoint written durably, result series and outcome stored;
+//      lease and checkpoint settings), with everything a job does there: its claim (with its
+//      event), its final checkpoint written durably, result series and outcome stored;
 //   c. on remote workers (--sweep-on remote or both): the same sweep on a pure coordinator
 //      (seepd --workers 0) drained by `lanes` seep-worker processes on loopback, each with one
 //      worker of one core thread, its checkpoint uploaded over gRPC.
