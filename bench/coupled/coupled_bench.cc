@@ -19,21 +19,19 @@
 //   seep_coupled_bench [--steps 400 (0: to the end)] [--warmup 100] [--scales 4,8] [--threads 1,2]
 //                      [--examples DIR]
 #include <fmt/format.h>
-#include <google/protobuf/text_format.h>
 #include <malloc.h>
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "codec/scene_codec.h"
+#include "scene_file.h"
 #include "seep/core/run/simulation.h"
 #include "seep/v1/scene.pb.h"
 
@@ -52,13 +50,11 @@ struct Options {
   std::string examples = SEEP_EXAMPLES_DIR;
 };
 
+// The CLI's reader: a bad file is named with its line and column.
 std::optional<seep::v1::Scene> LoadScene(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
   seep::v1::Scene scene;
-  if (!in || !google::protobuf::TextFormat::ParseFromString(text.str(), &scene)) {
-    std::fprintf(stderr, "cannot read the scene %s\n", path.c_str());
+  if (const std::string error = seep::client::LoadSceneFile(path, &scene); !error.empty()) {
+    std::fprintf(stderr, "%s\n", error.c_str());
     return std::nullopt;
   }
   return scene;

@@ -13,14 +13,14 @@ EndingSlot::~EndingSlot() {
 
 void EndingSlot::Hand(std::function<void()> ending) {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return !pending_ && !running_; });
+  changed_.wait(lock, [&] { return !pending_; });
   pending_ = std::move(ending);
   changed_.notify_all();
 }
 
 void EndingSlot::Drain() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return !pending_ && !running_; });
+  changed_.wait(lock, [&] { return !pending_; });
 }
 
 void EndingSlot::Loop(const std::stop_token& stop) {
@@ -28,14 +28,10 @@ void EndingSlot::Loop(const std::stop_token& stop) {
   for (;;) {
     // A stop is asked for only after Drain, so nothing pending is dropped.
     if (!changed_.wait(lock, stop, [&] { return static_cast<bool>(pending_); })) return;
-    std::function<void()> ending = std::move(pending_);
-    pending_ = nullptr;
-    running_ = true;
     lock.unlock();
-    ending();
-    ending = nullptr;  // its captures (the finished simulation) go before the slot frees
+    pending_();
     lock.lock();
-    running_ = false;
+    pending_ = nullptr;  // its captures (the finished simulation) go before the slot frees
     changed_.notify_all();
   }
 }

@@ -30,9 +30,10 @@ class EndingSlot {
 
   std::mutex mutex_;
   std::condition_variable_any changed_;
-  std::function<void()> pending_;  // guarded by mutex_; empty: the slot is free
-  bool running_ = false;           // guarded by mutex_
-  std::jthread thread_;            // last: it starts once the members above exist
+  // Guarded by mutex_; held until it has run, so that empty means the slot is free (the slot's
+  // thread runs it unlocked: no one else touches it while it is set).
+  std::function<void()> pending_;
+  std::jthread thread_;  // last: it starts once the members above exist
 };
 
 }  // namespace seep::service

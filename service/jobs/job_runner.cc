@@ -350,8 +350,7 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
     // Any other job's first claim (lease epoch 1: epochs only grow, resumes included) has none to
     // look for: every checkpoint is written under a claim.
     std::optional<std::uint64_t> restored;
-    const bool may_have_checkpoints = job.parent_job_id || job.lease_epoch > 1;
-    if ((keeper.enabled() && may_have_checkpoints) || job.parent_job_id) {
+    if (job.parent_job_id || (keeper.enabled() && job.lease_epoch > 1)) {
       restored = keeper.RestoreNewest(*sim);
     }
     if (!restored && job.parent_job_id) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -331,15 +332,15 @@ grpc::Status WorkerServiceImpl::StoreResultSeries(Ctx* ctx,
     }
     const std::vector<std::string> columns(request->columns().begin(), request->columns().end());
     const std::vector<double> values(request->values().begin(), request->values().end());
-    return FencedWrite(request->lease(), "lease", [&]() -> core::Status {
-      // A worker that sends none (an older one) gave its final progress as a beat.
-      if (!request->has_final_progress()) {
-        return store_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
-                                        columns, values, request->state_sha256());
-      }
-      return ledger_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
-                                       columns, values, request->state_sha256(),
-                                       ProgressFromProto(request->final_progress()));
+    // A worker that sends none (an older one) gave its final progress as a beat.
+    std::optional<JobProgress> final_progress;
+    if (request->has_final_progress()) {
+      final_progress = ProgressFromProto(request->final_progress());
+    }
+    return FencedWrite(request->lease(), "lease", [&] {
+      return store_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
+                                      columns, values, request->state_sha256(),
+                                      final_progress ? &*final_progress : nullptr);
     });
   });
 }

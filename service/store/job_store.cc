@@ -533,8 +533,7 @@ Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
     std::optional<JobKind> kind, const std::optional<WorkerPlacement>& placement, CommitSync sync) {
   const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
-  std::optional<RelaxedCommit> relaxed;
-  if (sync == CommitSync::kRelaxed) relaxed.emplace(*db_);
+  const RelaxedCommit relaxed(*db_, sync == CommitSync::kRelaxed);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_ASSIGN_OR_RETURN(
       Stmt s,

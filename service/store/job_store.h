@@ -110,8 +110,8 @@ class JobStore {
 
   // Moves the QUEUED job of highest priority (the oldest of those) to RUNNING under a new lease
   // held by owner until now_ms + lease_ms (lease_epoch + 1), records its CLAIMED event in the
-  // same transaction, and returns it; with `kind` set,
-  // only a job of that kind (a remote worker runs simulations only). `placement`: where the
+  // same transaction, and returns it; with `kind` set, only a job of that kind (a remote worker
+  // runs simulations only). `placement`: where the
   // claiming remote worker runs (its batch job and node), recorded with the job (none: cleared).
   // `sync`: kRelaxed only for a claim whose holder dies with this process (seepd's own
   // workers): lost to a power loss, the job is simply queued again, and no live worker can hold

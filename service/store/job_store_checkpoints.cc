@@ -113,8 +113,7 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
                                                                  CommitSync sync) {
   const StoreOperation operation("record checkpoint");
   std::lock_guard lock(mutex_);
-  std::optional<RelaxedCommit> relaxed;
-  if (sync == CommitSync::kRelaxed) relaxed.emplace(*db_);
+  const RelaxedCommit relaxed(*db_, sync == CommitSync::kRelaxed);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
   SEEP_RETURN_IF_ERROR(InsertCheckpointLocked(id, checkpoint));

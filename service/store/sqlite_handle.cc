@@ -181,11 +181,13 @@ Status WriteTx::Commit() {
   return s;
 }
 
-RelaxedCommit::RelaxedCommit(Db& db) : db_(db) {
+RelaxedCommit::RelaxedCommit(Db& db, bool relaxed) : db_(db), relaxed_(relaxed) {
   // A failure leaves FULL in place: the safe direction.
-  (void)db_.Run("PRAGMA synchronous=NORMAL");
+  if (relaxed_) (void)db_.Run("PRAGMA synchronous=NORMAL");
 }
 
-RelaxedCommit::~RelaxedCommit() { (void)db_.Run("PRAGMA synchronous=FULL"); }
+RelaxedCommit::~RelaxedCommit() {
+  if (relaxed_) (void)db_.Run("PRAGMA synchronous=FULL");
+}
 
 }  // namespace seep::service

@@ -144,15 +144,17 @@ class WriteTx {
 // be handed out twice) or periodic checkpoint records (a long run could lose every one of them);
 // a final checkpoint's record, which its job's outcome follows, and a claim of seepd's own
 // workers (they die with it, and the job is queued again) may (JobStore's CommitSync).
+// `relaxed` false: changes nothing (for a write relaxed only in some of its uses).
 class RelaxedCommit {
  public:
-  explicit RelaxedCommit(Db& db);
+  explicit RelaxedCommit(Db& db, bool relaxed = true);
   ~RelaxedCommit();
   RelaxedCommit(const RelaxedCommit&) = delete;
   RelaxedCommit& operator=(const RelaxedCommit&) = delete;
 
  private:
   Db& db_;
+  bool relaxed_;
 };
 
 }  // namespace seep::service
