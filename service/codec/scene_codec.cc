@@ -125,6 +125,23 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
   spec.progress_every = solver.progress_every();
   spec.storage_factor = solver.has_storage_factor() ? solver.storage_factor() : 1.0;
   spec.storage_floor_fraction = solver.storage_floor_fraction();
+  switch (solver.linear_solver()) {
+    case v1::LINEAR_SOLVER_UNSPECIFIED:  // as every scene before the choice: results unchanged
+    case v1::LINEAR_SOLVER_CHOLMOD_SUPERNODAL:
+      spec.linear_solver = core::LinearSolverKind::kCholmodSupernodal;
+      break;
+    case v1::LINEAR_SOLVER_SIMPLICIAL_LDLT:
+      spec.linear_solver = core::LinearSolverKind::kEigenSimplicialLdlt;
+      break;
+    case v1::LINEAR_SOLVER_AUTO:
+      spec.linear_solver = core::LinearSolverKind::kAuto;
+      break;
+    default:
+      return InvalidArgument(
+          fmt::format("scene.solver.linear_solver: must be LINEAR_SOLVER_CHOLMOD_SUPERNODAL, "
+                      "LINEAR_SOLVER_SIMPLICIAL_LDLT or LINEAR_SOLVER_AUTO, or unset (got {})",
+                      static_cast<int>(solver.linear_solver())));
+  }
   return spec;
 }
 

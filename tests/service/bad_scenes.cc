@@ -168,6 +168,11 @@ const std::vector<BadScene>& CommonBadScenes() {
       {"StorageFloorOfOne",
        [](v1::Scene& s) { s.mutable_solver()->set_storage_floor_fraction(1.0); },
        "scene.solver.storage_floor_fraction: must lie in [0, 1)"},
+      {"LinearSolverUnknown",
+       [](v1::Scene& s) {
+         s.mutable_solver()->set_linear_solver(static_cast<v1::LinearSolver>(9));
+       },
+       "scene.solver.linear_solver: must be LINEAR_SOLVER_CHOLMOD_SUPERNODAL"},
       {"EffectNamesNothing", [](v1::Scene& s) { s.add_effects(); }, "scene.effects[0]:"},
       {"GravityWithoutContacts",
        [](v1::Scene& s) { s.add_effects()->mutable_gravity()->set_gy_m_s2(-9.81); },

@@ -127,6 +127,7 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
     options.bulk_modulus = scene.fluid.bulk_modulus_pa;
     options.storage = storage;
     options.theta = scene.solver.kind == SolverKind::kCrankNicolson ? 0.5 : 1.0;
+    options.linear_solver = scene.solver.linear_solver;
     SEEP_ASSIGN_OR_RETURN(ImplicitSolver solver, ImplicitSolver::Create(options));
     solver_.emplace<ImplicitSolver>(std::move(solver));
   }
@@ -161,7 +162,9 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   // The centroids moved with the particles: the heads of this update are measured from here.
   if (mode_ == FlowMode::kSubCycled) SEEP_RETURN_IF_ERROR(RefreshFluidWeight(s));
   if (mode_ == FlowMode::kSteady) {
-    SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(s.net.flow));
+    SteadyStateOptions steady;
+    steady.linear_solver = s.scene->solver.linear_solver;
+    SEEP_ASSIGN_OR_RETURN(const SteadyStateReport report, SolveSteadyState(s.net.flow, steady));
     error = report.mass_balance_error;
   } else if (auto* explicit_solver = std::get_if<ExplicitSolver>(&solver_)) {
     if (mode_ == FlowMode::kStepped) {

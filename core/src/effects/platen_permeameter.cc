@@ -61,7 +61,9 @@ double PlatenPermeability(const LiveState& s, const PlatenPair& pair) {
       return kNaN;
     }
   }
-  if (!SolveSteadyState(probe).ok()) return kNaN;
+  SteadyStateOptions steady;
+  steady.linear_solver = s.scene->solver.linear_solver;
+  if (!SolveSteadyState(probe, steady).ok()) return kNaN;
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(probe);
   const double q = 0.5 * (NodeInflow(fluxes, high) - NodeInflow(fluxes, low));
   const auto along = [&](const DemWall& w) { return pair.along_x ? w.px : w.py; };

@@ -29,7 +29,8 @@ Result<ImplicitSolver> ImplicitSolver::Create(const ImplicitSolverOptions& optio
                            flow_internal::FormatNumber(options.bulk_modulus) + ")");
   }
   SEEP_RETURN_IF_ERROR(ValidateStorageModel(options.storage));
-  if (options.linear_solver != LinearSolverKind::kCholmodSupernodal &&
+  if (options.linear_solver != LinearSolverKind::kAuto &&
+      options.linear_solver != LinearSolverKind::kCholmodSupernodal &&
       options.linear_solver != LinearSolverKind::kEigenSimplicialLdlt) {
     return InvalidArgument("flow.implicit.linear_solver: unknown kind");
   }
@@ -45,6 +46,10 @@ Result<ImplicitSolver> ImplicitSolver::Create(const ImplicitSolverOptions& optio
 
 const LinearSystemStats& ImplicitSolver::stats() const { return system_->stats(); }
 
+LinearSolverKind ImplicitSolver::linear_solver_in_use() const {
+  return system_->linear_solver_in_use();
+}
+
 Status ImplicitSolver::Prepare(const FlowNetwork& network) {
   if (network.topology_version() == topology_stamp_ &&
       network.coefficient_version() == coefficient_stamp_) {
@@ -58,25 +63,31 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
   storage_diagonal_dt_ = -1.0;
   SEEP_RETURN_IF_ERROR(system_->SyncTopology(network, {}));
 
-  // Components of the unknowns (= the non-fixed domains: this solver pins nothing) and their
-  // capacities, for the per-component budget correction of Step.
-  const NetworkComponents components = FindNetworkComponents(network);
+  // Components of the unknowns (= the non-fixed domains: this solver pins nothing) and the pipes
+  // that join them to known domains: functions of the topology, found again only when it
+  // changes (a coupled step changes the coefficients at every flow update).
   const auto domain_of = system_->domain_of_unknown();
-  component_of_unknown_.resize(domain_of.size());
-  component_capacity_.assign(static_cast<std::size_t>(components.num_components), 0.0);
-  for (std::size_t u = 0; u < domain_of.size(); ++u) {
-    const std::int32_t c = components.component_of_domain[domain_of[u]];
-    component_of_unknown_[u] = c;
-    component_capacity_[c] += capacity_[domain_of[u]];
-  }
-  const auto unknown_of = system_->unknown_of_domain();
-  const auto pa = network.pipe_domain_a();
-  const auto pb = network.pipe_domain_b();
-  boundary_pipes_.clear();
-  for (std::size_t p = 0; p < pa.size(); ++p) {
-    if ((unknown_of[pa[p]] >= 0) != (unknown_of[pb[p]] >= 0)) {
-      boundary_pipes_.push_back(static_cast<std::int32_t>(p));
+  if (network.topology_version() != topology_stamp_) {
+    const NetworkComponents components = FindNetworkComponents(network);
+    num_components_ = static_cast<std::size_t>(components.num_components);
+    component_of_unknown_.resize(domain_of.size());
+    for (std::size_t u = 0; u < domain_of.size(); ++u) {
+      component_of_unknown_[u] = components.component_of_domain[domain_of[u]];
     }
+    const auto unknown_of = system_->unknown_of_domain();
+    const auto pa = network.pipe_domain_a();
+    const auto pb = network.pipe_domain_b();
+    boundary_pipes_.clear();
+    for (std::size_t p = 0; p < pa.size(); ++p) {
+      if ((unknown_of[pa[p]] >= 0) != (unknown_of[pb[p]] >= 0)) {
+        boundary_pipes_.push_back(static_cast<std::int32_t>(p));
+      }
+    }
+  }
+  // Their capacities, for the per-component budget correction of Step.
+  component_capacity_.assign(num_components_, 0.0);
+  for (std::size_t u = 0; u < domain_of.size(); ++u) {
+    component_capacity_[component_of_unknown_[u]] += capacity_[domain_of[u]];
   }
   topology_stamp_ = network.topology_version();
   coefficient_stamp_ = network.coefficient_version();

@@ -44,6 +44,7 @@ class PressureSystem {
   std::span<const std::int32_t> domain_of_unknown() const { return domain_of_unknown_; }
   bool is_pinned(std::size_t d) const { return !pinned_.empty() && pinned_[d] != 0; }
   const LinearSystemStats& stats() const { return stats_; }
+  LinearSolverKind linear_solver_in_use() const { return factorization_.active_kind(); }
 
  private:
   SpdFactorization factorization_;

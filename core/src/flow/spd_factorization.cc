@@ -6,8 +6,16 @@
 
 namespace seep::core {
 
+LinearSolverKind ResolvedLinearSolverKind(LinearSolverKind kind, std::int64_t unknowns) {
+  if (kind != LinearSolverKind::kAuto) return kind;
+  return unknowns >= kSupernodalMinUnknowns ? LinearSolverKind::kCholmodSupernodal
+                                            : LinearSolverKind::kEigenSimplicialLdlt;
+}
+
 std::string_view LinearSolverKindName(LinearSolverKind kind) {
   switch (kind) {
+    case LinearSolverKind::kAuto:
+      return "auto";
     case LinearSolverKind::kCholmodSupernodal:
       return "cholmod_supernodal";
     case LinearSolverKind::kEigenSimplicialLdlt:
@@ -44,13 +52,7 @@ struct SpdFactorization::Impl {
 };
 
 SpdFactorization::SpdFactorization(LinearSolverKind kind)
-    : kind_(kind), impl_(std::make_unique<Impl>()) {
-  if (kind == LinearSolverKind::kCholmodSupernodal) {
-    impl_->cholmod = std::make_unique<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>();
-  } else {
-    impl_->ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>();
-  }
-}
+    : kind_(kind), active_kind_(kind), impl_(std::make_unique<Impl>()) {}
 
 SpdFactorization::~SpdFactorization() = default;
 SpdFactorization::SpdFactorization(SpdFactorization&&) noexcept = default;
@@ -58,6 +60,18 @@ SpdFactorization& SpdFactorization::operator=(SpdFactorization&&) noexcept = def
 
 Status SpdFactorization::Analyze(const SparseMatrix& lower) {
   impl_->analyzed = impl_->factorized = false;
+  // The factorization for this pattern's size (kAuto), made anew only when the kind changes.
+  active_kind_ = ResolvedLinearSolverKind(kind_, lower.rows());
+  if (active_kind_ == LinearSolverKind::kCholmodSupernodal) {
+    impl_->ldlt.reset();
+    if (!impl_->cholmod) {
+      impl_->cholmod = std::make_unique<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>();
+    }
+  } else {
+    impl_->cholmod.reset();
+    if (!impl_->ldlt)
+      impl_->ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>();
+  }
   Eigen::ComputationInfo info;
   if (impl_->cholmod) {
     impl_->cholmod->analyzePattern(lower);
@@ -67,7 +81,7 @@ Status SpdFactorization::Analyze(const SparseMatrix& lower) {
     info = impl_->ldlt->info();
   }
   if (info != Eigen::Success) {
-    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(active_kind_)) +
                     "): symbolic analysis failed: " + InfoName(info));
   }
   impl_->analyzed = true;
@@ -86,7 +100,8 @@ Status SpdFactorization::Factorize(const SparseMatrix& lower) {
     info = impl_->ldlt->info();
   }
   if (info != Eigen::Success) {
-    return FailedPrecondition("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+    return FailedPrecondition("flow.linear_solver(" +
+                              std::string(LinearSolverKindName(active_kind_)) +
                               "): factorization failed: " + InfoName(info) +
                               "; check for a component without a fixed-pressure node");
   }
@@ -105,7 +120,7 @@ Status SpdFactorization::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) c
     info = impl_->ldlt->info();
   }
   if (info != Eigen::Success) {
-    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(kind_)) +
+    return Internal("flow.linear_solver(" + std::string(LinearSolverKindName(active_kind_)) +
                     "): solve failed: " + InfoName(info));
   }
   return Status::Ok();

@@ -1,6 +1,6 @@
 // Internal: one sparse SPD factorization behind a small interface, so the solvers choose CHOLMOD
-// or Eigen's SimplicialLDLT at run time without templates leaking into public headers.
-// Matrices are passed as their lower triangle (column-major, compressed).
+// or Eigen's SimplicialLDLT at run time (or by size, kAuto) without templates leaking into public
+// headers. Matrices are passed as their lower triangle (column-major, compressed).
 #pragma once
 
 #include <Eigen/Core>
@@ -28,10 +28,13 @@ class SpdFactorization {
   Status Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
 
   LinearSolverKind kind() const { return kind_; }
+  // The factorization in use since the last Analyze (kind() itself unless that is kAuto).
+  LinearSolverKind active_kind() const { return active_kind_; }
 
  private:
   struct Impl;
   LinearSolverKind kind_;
+  LinearSolverKind active_kind_;
   std::unique_ptr<Impl> impl_;
 };
 

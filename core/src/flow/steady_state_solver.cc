@@ -19,7 +19,8 @@ SteadyStateSolver::SteadyStateSolver(SteadyStateSolver&&) noexcept = default;
 SteadyStateSolver& SteadyStateSolver::operator=(SteadyStateSolver&&) noexcept = default;
 
 Result<SteadyStateSolver> SteadyStateSolver::Create(const SteadyStateOptions& options) {
-  if (options.linear_solver != LinearSolverKind::kCholmodSupernodal &&
+  if (options.linear_solver != LinearSolverKind::kAuto &&
+      options.linear_solver != LinearSolverKind::kCholmodSupernodal &&
       options.linear_solver != LinearSolverKind::kEigenSimplicialLdlt) {
     return InvalidArgument("flow.steady.linear_solver: unknown kind");
   }

@@ -332,6 +332,51 @@ TEST(FlowNetwork, LinearSolversAgreeAndRunsAreBitIdentical) {
   EXPECT_EQ(a, a2);  // bit-identical run to run
 }
 
+// kAuto (the choice a scene makes with solver.linear_solver AUTO): Eigen's simplicial LDL^T
+// below kSupernodalMinUnknowns unknowns, CHOLMOD supernodal from there on, and then the very
+// bits of the solver it chose.
+TEST(FlowNetwork, AutoLinearSolverIsSimplicialBelowTheSwitchAndSupernodalFromIt) {
+  EXPECT_EQ(ResolvedLinearSolverKind(LinearSolverKind::kAuto, kSupernodalMinUnknowns - 1),
+            LinearSolverKind::kEigenSimplicialLdlt);
+  EXPECT_EQ(ResolvedLinearSolverKind(LinearSolverKind::kAuto, kSupernodalMinUnknowns),
+            LinearSolverKind::kCholmodSupernodal);
+  EXPECT_EQ(ResolvedLinearSolverKind(LinearSolverKind::kCholmodSupernodal, 1),
+            LinearSolverKind::kCholmodSupernodal);
+  EXPECT_EQ(ResolvedLinearSolverKind(LinearSolverKind::kEigenSimplicialLdlt, 1 << 30),
+            LinearSolverKind::kEigenSimplicialLdlt);
+
+  struct Run {
+    LinearSolverKind in_use;
+    std::vector<double> pressure;
+  };
+  const auto run = [](FlowNetwork net, LinearSolverKind kind) {
+    ImplicitSolverOptions opt;
+    opt.linear_solver = kind;
+    auto solver = ImplicitSolver::Create(opt);
+    EXPECT_TRUE(solver.ok());
+    for (int s = 0; s < 3; ++s) EXPECT_TRUE(solver->Step(net, 1e-6).ok());
+    return Run{solver->linear_solver_in_use(),
+               std::vector<double>(net.pressure().begin(), net.pressure().end())};
+  };
+  // Below the switch: 299 unknowns of a random network.
+  FlowNetworkData small = testing::MakeRandomClosedData(300, 400, 7);
+  small.role[0] = DomainRole::kFixedPressure;
+  const Run auto_small = run(testing::MakeOrDie(small), LinearSolverKind::kAuto);
+  const Run simplicial = run(testing::MakeOrDie(small), LinearSolverKind::kEigenSimplicialLdlt);
+  EXPECT_EQ(auto_small.in_use, LinearSolverKind::kEigenSimplicialLdlt);
+  EXPECT_EQ(auto_small.pressure, simplicial.pressure);
+  // At the switch: a chain whose two ends are fixed, kSupernodalMinUnknowns unknowns between.
+  const LatticeParams lp;
+  const auto chain = [&] {
+    return testing::MakeChain(static_cast<int>(kSupernodalMinUnknowns) + 1, lp,
+                              lp.SquareApparentVolume(), lp.SquarePoreVolume(), false, 1e5);
+  };
+  const Run auto_large = run(chain(), LinearSolverKind::kAuto);
+  const Run supernodal = run(chain(), LinearSolverKind::kCholmodSupernodal);
+  EXPECT_EQ(auto_large.in_use, LinearSolverKind::kCholmodSupernodal);
+  EXPECT_EQ(auto_large.pressure, supernodal.pressure);
+}
+
 TEST(FlowNetwork, ExplicitAdvanceSubCyclesWithinTheLimit) {
   // A closed random network deformed by dV over a span of 37.3 dt_crit: ceil(37.3/0.9) sub-steps,
   // and the stored fluid changes by exactly -sum dV.

@@ -240,6 +240,22 @@ TEST(SceneCodec, StorageFactorDefaultsToOne) {
 }
 
 // The scenes shipped in examples/ parse and pass validation.
+// Unset keeps CHOLMOD supernodal, the factorization of every scene before the choice existed (a
+// scene's results depend on it); each value maps to its kind.
+TEST(SceneCodec, LinearSolverDefaultsToSupernodalAndMapsEachChoice) {
+  v1::Scene scene = ValidScene();
+  EXPECT_EQ(SceneFromProto(scene)->solver.linear_solver,
+            core::LinearSolverKind::kCholmodSupernodal);
+  const std::pair<v1::LinearSolver, core::LinearSolverKind> choices[] = {
+      {v1::LINEAR_SOLVER_CHOLMOD_SUPERNODAL, core::LinearSolverKind::kCholmodSupernodal},
+      {v1::LINEAR_SOLVER_SIMPLICIAL_LDLT, core::LinearSolverKind::kEigenSimplicialLdlt},
+      {v1::LINEAR_SOLVER_AUTO, core::LinearSolverKind::kAuto}};
+  for (const auto& [wire, kind] : choices) {
+    scene.mutable_solver()->set_linear_solver(wire);
+    EXPECT_EQ(SceneFromProto(scene)->solver.linear_solver, kind) << v1::LinearSolver_Name(wire);
+  }
+}
+
 TEST(SceneCodec, ConvertsTheExampleScenes) {
   const std::filesystem::path examples = SEEP_EXAMPLES_DIR;
   for (const char* name : {"darcy_square_lattice.textproto", "darcy_random_packing.textproto",

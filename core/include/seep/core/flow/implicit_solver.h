@@ -87,6 +87,9 @@ class ImplicitSolver {
                               std::span<const double> volume_change = {},
                               FluidTally* tally = nullptr);
 
+  // The factorization of the last symbolic analysis: options.linear_solver itself, or for kAuto
+  // the one it chose for this network's size.
+  LinearSolverKind linear_solver_in_use() const;
   const LinearSystemStats& stats() const;
   const ImplicitSolverOptions& options() const { return options_; }
 
@@ -102,6 +105,7 @@ class ImplicitSolver {
   std::vector<double> capacity_;  // V_s / K_f per domain (0 for fixed), m^2/Pa
   // Per unknown: its connected component; per component: the sum of V_s/K_f (m^2/Pa).
   std::vector<std::int32_t> component_of_unknown_;
+  std::size_t num_components_ = 0;
   std::vector<double> component_capacity_;
   // Pipes with exactly one unknown end (to a fixed node), in pipe order: what the per-component
   // budget sees of the outside.

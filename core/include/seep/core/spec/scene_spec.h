@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "seep/core/flow/fluid.h"
+#include "seep/core/flow/linear_solver_kind.h"
 #include "seep/core/spec/boundary_region.h"
 #include "seep/core/spec/effect_spec.h"
 #include "seep/core/spec/stage_spec.h"
@@ -128,6 +129,9 @@ struct SolverSpec {
   // domains of the network at set-up, so slivers neither stall the explicit step nor blow up. In
   // [0, 1); 0 = none.
   double storage_floor_fraction = 0.0;
+  // The factorization of the implicit and steady solves (flow/linear_solver_kind.h). CHOLMOD
+  // supernodal unless the scene asks: a scene's results depend on it.
+  LinearSolverKind linear_solver = LinearSolverKind::kCholmodSupernodal;
 };
 
 struct SceneSpec {
