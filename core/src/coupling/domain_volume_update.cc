@@ -429,7 +429,11 @@ Status DomainVolumeUpdater::Compute(const ParticleView& particles, const DomainN
   const SectorSums sectors = Sectors(particles, network);
   ComputeEdgeTerms(particles, sectors.bind_radii);
   ComputeGeometric<true>(particles, network, sectors, apparent_volume, pore_volume);
-  for (std::size_t d = 0; d < pore_volume.size(); ++d) pore_volume[d] += rattler_correction_[d];
+  const auto domains = static_cast<std::ptrdiff_t>(pore_volume.size());
+  double* pore = pore_volume.data();
+  const double* correction = rattler_correction_.data();
+#pragma omp parallel for simd schedule(static) if (domains >= internal::kMinParallelItems)
+  for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
   return Status::Ok();
 }
 

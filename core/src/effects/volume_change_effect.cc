@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "../parallel_threshold.h"
 #include "seep/core/log.h"
 
 namespace seep::core {
@@ -35,16 +36,23 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
         updater_.ComputeApparent(s.step_vertices.CurrentInStep(s), s.net.domains, apparent_));
   }
   ++s.counters.volume_updates;
-  const std::size_t n = apparent_.size();
-  const std::span<const double> before =
-      pore ? s.net.flow.pore_volume() : s.net.flow.apparent_volume();
-  const std::span<const double> after = pore ? pore_ : apparent_;
+  const auto n = static_cast<std::ptrdiff_t>(apparent_.size());
+  const double* before = (pore ? s.net.flow.pore_volume() : s.net.flow.apparent_volume()).data();
+  const double* after = pore ? pore_.data() : apparent_.data();
   const DomainRole* role = s.net.flow.role().data();
   double* change = change_.data();
-  for (std::size_t d = 0; d < n; ++d) {
+  // Per domain only: threads change no bit. A collapsed domain is counted branch-free and named
+  // by a scan only when there is one.
+  double collapsed = 0.0;
+#pragma omp parallel for simd schedule(static) reduction(+ : collapsed) \
+    if (n >= internal::kMinParallelItems)
+  for (std::ptrdiff_t d = 0; d < n; ++d) {
     // Not scaled by the storage factor: the disks are rigid, so all of a domain's volume change
     // is pore volume (physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt - dV_d)).
     change[d] = after[d] - before[d];
+    collapsed += ((after[d] > 0.0) | (role[d] == DomainRole::kFixedPressure)) ? 0.0 : 1.0;
+  }
+  for (std::ptrdiff_t d = 0; collapsed > 0.0 && d < n; ++d) {
     if (!(after[d] > 0.0) && role[d] != DomainRole::kFixedPressure) {
       return FailedPrecondition(fmt::format(
           "coupling: domain {} collapsed (volume {} m^2 at step {}); the particles overlap "
@@ -54,12 +62,14 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   }
   // The flow network holds the live volumes (the domain network keeps those it was detected
   // with, which the updater measures the turns from).
-  std::copy(apparent_.begin(), apparent_.end(), s.net.flow.mutable_apparent_volume().begin());
-  if (pore) {
-    std::copy(pore_.begin(), pore_.end(), s.net.flow.mutable_pore_volume().begin());
-  } else {
-    const std::span<double> kept = s.net.flow.mutable_pore_volume();
-    for (std::size_t d = 0; d < n; ++d) kept[d] = std::min(kept[d], apparent_[d]);
+  const double* apparent = apparent_.data();
+  double* live_apparent = s.net.flow.mutable_apparent_volume().data();
+  double* live_pore = s.net.flow.mutable_pore_volume().data();
+  const double* pore_now = pore_.data();
+#pragma omp parallel for simd schedule(static) if (n >= internal::kMinParallelItems)
+  for (std::ptrdiff_t d = 0; d < n; ++d) {
+    live_apparent[d] = apparent[d];
+    live_pore[d] = pore ? pore_now[d] : std::min(live_pore[d], apparent[d]);
   }
   return Status::Ok();
 }

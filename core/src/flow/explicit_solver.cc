@@ -1,15 +1,19 @@
 #include "seep/core/flow/explicit_solver.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
 
+#include "../parallel_threshold.h"
 #include "seep/core/flow/pipe_head.h"
 #include "seep/core/flow/storage_volume.h"
 #include "seep/core/log.h"
 #include "step_input.h"
+
 namespace seep::core {
 
 namespace {
@@ -119,47 +123,112 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
   topology_stamp_ = 0;
   coefficient_stamp_ = 0;
   SEEP_RETURN_IF_ERROR(known_topology ? network.ValidateCoefficients() : network.Validate());
+  if (!known_topology) IndexPipesByDomain(network);
   SEEP_RETURN_IF_ERROR(RefreshCoefficients(network));
   topology_stamp_ = network.topology_version();
   coefficient_stamp_ = network.coefficient_version();
   return Status::Ok();
 }
 
-Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
+// Per domain, its pipes in ascending pipe order (a pipe with both ends in one domain twice): the
+// order in which a pass over the pipes would add to it, so that a pass over the domains adds the
+// same terms in the same order and gives the same bits, on any number of threads.
+void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
   const std::size_t n = network.num_domains();
   const auto a = network.pipe_domain_a();
   const auto b = network.pipe_domain_b();
-  const auto c = network.pipe_conductance();
-  sum_c_.assign(n, 0.0);
-  // (Conductances are finite and > 0: Prepare validated them.)
-  for (std::size_t p = 0; p < c.size(); ++p) {
-    sum_c_[static_cast<std::size_t>(a[p])] += c[p];
-    sum_c_[static_cast<std::size_t>(b[p])] += c[p];
+  pipes_of_start_.assign(n + 1, 0);
+  for (std::size_t p = 0; p < a.size(); ++p) {
+    ++pipes_of_start_[static_cast<std::size_t>(a[p]) + 1];
+    ++pipes_of_start_[static_cast<std::size_t>(b[p]) + 1];
   }
-  const auto role = network.role();
-  const auto q_src = network.source_rate();
+  for (std::size_t d = 0; d < n; ++d) pipes_of_start_[d + 1] += pipes_of_start_[d];
+  pipes_of_.resize(2 * a.size());
+  std::vector<std::int32_t> next(pipes_of_start_.begin(), pipes_of_start_.end() - 1);
+  for (std::size_t p = 0; p < a.size(); ++p) {
+    pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(a[p])]++)] =
+        static_cast<std::int32_t>(p);
+    pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(b[p])]++)] =
+        static_cast<std::int32_t>(p);
+  }
+}
+
+Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
+  const std::size_t n = network.num_domains();
+  const double* __restrict c = network.pipe_conductance().data();
+  const DomainRole* __restrict role = network.role().data();
+  const double* __restrict volume = options_.storage.volume == StorageVolume::kPore
+                                        ? network.pore_volume().data()
+                                        : network.apparent_volume().data();
+  const double factor = options_.storage.factor;
+  const double floor = options_.storage.floor_m2;
   const double bulk = options_.bulk_modulus;
-  capacity_.assign(n, 0.0);
-  rate_.assign(n, 0.0);
+  const std::int32_t* __restrict start = pipes_of_start_.data();
+  const std::int32_t* __restrict pipes_of = pipes_of_.data();
+  sum_c_.resize(n);
+  capacity_.resize(n);
+  rate_.resize(n);
+  double* __restrict sum_c = sum_c_.data();
+  double* __restrict capacity = capacity_.data();
+  double* __restrict rate = rate_.data();
+  // Per domain only (the minimum step aside): threads change no bit. Each thread keeps the
+  // first domain of its share with the least dt_i, and the shares are taken in order, so the
+  // limit is the lowest-index domain on ties as in one pass.
+  const auto domains = static_cast<std::ptrdiff_t>(n);
+  const int threads = domains >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
+  std::vector<CriticalTimeStep> share_limit(static_cast<std::size_t>(threads));
+  bool any_non_positive = false;
+#pragma omp parallel num_threads(threads) if (threads > 1) reduction(|| : any_non_positive)
+  {
+    CriticalTimeStep least;
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t d = 0; d < domains; ++d) {
+      double sum = 0.0;
+      for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[pipes_of[k]];
+      sum_c[d] = sum;
+      capacity[d] = 0.0;
+      rate[d] = 0.0;
+      if (role[d] == DomainRole::kFixedPressure) continue;
+      // StorageVolumeOf, term by term.
+      const double vs = std::max(factor * volume[d], floor);
+      if (!(vs > 0.0)) {
+        any_non_positive = true;
+        continue;
+      }
+      capacity[d] = vs / bulk;
+      rate[d] = 1.0 / capacity[d];
+      // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
+      const double dt = sum > 0.0 ? vs / (bulk * sum) : std::numeric_limits<double>::infinity();
+      if (dt < least.dt_crit) {
+        least.dt_crit = dt;
+        least.limiting_domain = static_cast<std::int32_t>(d);
+        least.limiting_storage_volume = vs;
+        least.limiting_conductance_sum = sum;
+      }
+    }
+    share_limit[static_cast<std::size_t>(omp_get_thread_num())] = least;
+  }
+  if (any_non_positive) {
+    for (std::size_t d = 0; d < n; ++d) {
+      if (role[d] == DomainRole::kFixedPressure) continue;
+      const double vs = StorageVolumeOf(network, options_.storage, d);
+      if (!(vs > 0.0)) return NonPositiveStorageVolume(options_.storage, d, vs);
+    }
+  }
+  limit_ = CriticalTimeStep{};
+  for (const CriticalTimeStep& least : share_limit) {
+    if (least.dt_crit < limit_.dt_crit) limit_ = least;
+  }
+  // The sources: most scenes have none, and a branch-free count says so without the scan.
+  const double* q_src = network.source_rate().data();
   inflow_.assign(n, 0.0);
   sources_.clear();
-  limit_ = CriticalTimeStep{};
-  for (std::size_t d = 0; d < n; ++d) {
-    if (role[d] == DomainRole::kFixedPressure) continue;
-    const double vs = StorageVolumeOf(network, options_.storage, d);
-    // (Volumes and source rates are finite: Prepare validated them.)
-    if (!(vs > 0.0)) return NonPositiveStorageVolume(options_.storage, d, vs);
-    capacity_[d] = vs / bulk;
-    rate_[d] = 1.0 / capacity_[d];
-    // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
-    const double dt =
-        sum_c_[d] > 0.0 ? vs / (bulk * sum_c_[d]) : std::numeric_limits<double>::infinity();
-    if (dt < limit_.dt_crit) {
-      limit_.dt_crit = dt;
-      limit_.limiting_domain = static_cast<std::int32_t>(d);
-      limit_.limiting_storage_volume = vs;
-      limit_.limiting_conductance_sum = sum_c_[d];
-    }
+  double sources = 0.0;
+#pragma omp simd reduction(+ : sources)
+  for (std::ptrdiff_t d = 0; d < domains; ++d) {
+    sources += ((role[d] == DomainRole::kSource) & (q_src[d] != 0.0)) ? 1.0 : 0.0;
+  }
+  for (std::size_t d = 0; sources > 0.0 && d < n; ++d) {
     if (role[d] == DomainRole::kSource && q_src[d] != 0.0) {
       sources_.push_back(static_cast<std::int32_t>(d));
       inflow_[d] = q_src[d];
@@ -325,9 +394,11 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
   if (!volume_change.empty()) {
     sub_step_volume_change_.resize(volume_change.size());
     const double share = 1.0 / static_cast<double>(out.sub_steps);
-    for (std::size_t d = 0; d < volume_change.size(); ++d) {
-      sub_step_volume_change_[d] = volume_change[d] * share;
-    }
+    const auto domains = static_cast<std::ptrdiff_t>(volume_change.size());
+    double* __restrict sub = sub_step_volume_change_.data();
+    const double* __restrict whole = volume_change.data();
+#pragma omp parallel for simd schedule(static) if (domains >= internal::kMinParallelItems)
+    for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
     dv = sub_step_volume_change_;
   }
   out.max_mass_balance_error = options_.diagnostics ? 0.0 : FlowStepReport::kNaN;

@@ -34,8 +34,10 @@ template <typename Ok>
 std::ptrdiff_t FirstFailing(const std::vector<double>& v, Ok ok) {
   const auto n = static_cast<std::ptrdiff_t>(v.size());
   const double* x = v.data();
+  // A count of whole numbers far below 2^53: exact in any order, so threads change nothing.
   double bad = 0.0;
-#pragma omp simd reduction(+ : bad)
+#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
+    if (n >= internal::kMinParallelItems)
   for (std::ptrdiff_t i = 0; i < n; ++i) bad += ok(x[i]) ? 0.0 : 1.0;
   if (bad == 0.0) return -1;
   for (std::ptrdiff_t i = 0; i < n; ++i) {
@@ -144,7 +146,8 @@ Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
   const double* source = d.source_rate.data();
   const DomainRole* role = d.role.data();
   double bad = 0.0;
-#pragma omp simd reduction(+ : bad)
+#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
+    if (nd >= internal::kMinParallelItems)
   for (std::ptrdiff_t i = 0; i < nd; ++i) {
     const bool source_ok =
         FiniteBranchFree(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));

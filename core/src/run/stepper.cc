@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "../branch_free.h"
+#include "../parallel_threshold.h"
 #include "seep/core/dem/dem_integrator.h"
 #include "seep/core/effects/flow_effect.h"
 #include "seep/core/effects/fluid_stable_step.h"
@@ -286,6 +288,17 @@ Status Stepper::RebindAll() {
 
 Status Stepper::CheckParticlesFinite(std::uint64_t step) const {
   const DemParticles& p = state_.particles;
+  // Every step: a branch-free count on the threads, and the scan that names one only on failure.
+  const double* x = p.x.data();
+  const double* y = p.y.data();
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  double bad = 0.0;
+#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
+    if (n >= internal::kMinParallelItems)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    bad += (internal::FiniteBranchFree(x[i]) & internal::FiniteBranchFree(y[i])) ? 0.0 : 1.0;
+  }
+  if (bad == 0.0) return Status::Ok();
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i])) {
       return FailedPrecondition(

@@ -3,6 +3,7 @@
 #include "seep/core/flow/flow_network.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -375,6 +376,33 @@ TEST(FlowNetwork, AutoLinearSolverIsSimplicialBelowTheSwitchAndSupernodalFromIt)
   const Run supernodal = run(chain(), LinearSolverKind::kCholmodSupernodal);
   EXPECT_EQ(auto_large.in_use, LinearSolverKind::kCholmodSupernodal);
   EXPECT_EQ(auto_large.pressure, supernodal.pressure);
+}
+
+// The explicit solver's limit, found per domain on the threads (over 8192 domains: the parallel
+// path), is the reference's: the least V_s/(K_f sum C) at the lowest domain index among ties. A
+// uniform lattice ties every interior domain, so a combine that took any but the first share's
+// least would name another domain.
+TEST(FlowNetwork, ExplicitLimitOnThreadsIsTheReferencesLowestIndexOnTies) {
+  const LatticeParams lp;
+  FlowNetworkData d = testing::MakeSquareLatticeData(100, 100, lp);
+  d.role[0] = DomainRole::kFixedPressure;
+  const FlowNetwork net = testing::MakeOrDie(d);
+  ASSERT_GT(net.num_domains(), 8192u);
+  const auto reference = ComputeCriticalTimeStep(net, 2e9, StorageModel{});
+  ASSERT_TRUE(reference.ok());
+  const int before = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    ExplicitSolverOptions options;
+    options.bulk_modulus = 2e9;
+    auto solver = ExplicitSolver::Create(options);
+    ASSERT_TRUE(solver.ok());
+    const auto limit = solver->CriticalStep(net);
+    ASSERT_TRUE(limit.ok()) << limit.status().ToString();
+    EXPECT_EQ(limit->dt_crit, reference->dt_crit) << threads << " thread(s)";
+    EXPECT_EQ(limit->limiting_domain, reference->limiting_domain) << threads << " thread(s)";
+  }
+  omp_set_num_threads(before);
 }
 
 TEST(FlowNetwork, ExplicitAdvanceSubCyclesWithinTheLimit) {

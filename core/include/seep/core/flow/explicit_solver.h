@@ -85,6 +85,7 @@ class ExplicitSolver {
   Status Prepare(const FlowNetwork& network);
   // Capacities, rates, the critical step and the sources from the current values (checking the
   // values they read); allocates only when the network grew.
+  void IndexPipesByDomain(const FlowNetwork& network);
   Status RefreshCoefficients(const FlowNetwork& network);
 
   ExplicitSolverOptions options_;
@@ -94,7 +95,10 @@ class ExplicitSolver {
   std::vector<double> rate_;      // K_f / V_s (0 for fixed), 1/(Pa s) per m^2.
   std::vector<double> capacity_;  // V_s / K_f (0 for fixed), m^2/Pa.
   std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
-  std::vector<double> gain_;      // dt K_f / V_s for gain_dt_.
+  // Per domain (CSR, for the topology of topology_stamp_): its pipes in ascending order.
+  std::vector<std::int32_t> pipes_of_start_;
+  std::vector<std::int32_t> pipes_of_;
+  std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
   // With fluid weight: the head inflow plus Q_src per domain, what inflow_ restarts from; empty
