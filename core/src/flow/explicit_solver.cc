@@ -18,6 +18,9 @@ namespace seep::core {
 
 namespace {
 
+// The pipe of an entry of ExplicitSolver::pipes_of_ (p, or ~p for its end b).
+inline std::int32_t PipeOf(std::int32_t entry) { return entry ^ (entry >> 31); }
+
 // q = C (P_b - P_a) flows from b into a. Storage order, so a locality-ordered network streams.
 void AccumulatePipeFlows(std::size_t num_pipes, const std::int32_t* __restrict a,
                          const std::int32_t* __restrict b, const double* __restrict c,
@@ -130,9 +133,10 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
   return Status::Ok();
 }
 
-// Per domain, its pipes in ascending pipe order (a pipe with both ends in one domain twice): the
-// order in which a pass over the pipes would add to it, so that a pass over the domains adds the
-// same terms in the same order and gives the same bits, on any number of threads.
+// Per domain, its pipes in ascending pipe order, p where the domain is the pipe's end a and ~p
+// where it is end b (a pipe with both ends in one domain twice, a first): the order in which a
+// pass over the pipes adds to it, so that a pass over the domains on the threads adds the same
+// terms in the same order and gives the same bits.
 void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
   const std::size_t n = network.num_domains();
   const auto a = network.pipe_domain_a();
@@ -149,7 +153,7 @@ void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
     pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(a[p])]++)] =
         static_cast<std::int32_t>(p);
     pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(b[p])]++)] =
-        static_cast<std::int32_t>(p);
+        ~static_cast<std::int32_t>(p);
   }
 }
 
@@ -180,12 +184,27 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   bool any_non_positive = false;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(|| : any_non_positive)
   {
+    // sum C per domain: one thread adds pipe by pipe; threads gather each domain's pipes in the
+    // same order (IndexPipesByDomain), so both add the same terms in the same order.
+    const bool gather = threads > 1;
+    if (!gather) {
+      const std::int32_t* __restrict a = network.pipe_domain_a().data();
+      const std::int32_t* __restrict b = network.pipe_domain_b().data();
+      std::fill(sum_c, sum_c + n, 0.0);
+      for (std::size_t p = 0; p < network.num_pipes(); ++p) {
+        sum_c[a[p]] += c[p];
+        sum_c[b[p]] += c[p];
+      }
+    }
     CriticalTimeStep least;
 #pragma omp for schedule(static)
     for (std::ptrdiff_t d = 0; d < domains; ++d) {
-      double sum = 0.0;
-      for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[pipes_of[k]];
-      sum_c[d] = sum;
+      double sum = sum_c[d];
+      if (gather) {
+        sum = 0.0;
+        for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[PipeOf(pipes_of[k])];
+        sum_c[d] = sum;
+      }
       capacity[d] = 0.0;
       rate[d] = 0.0;
       if (role[d] == DomainRole::kFixedPressure) continue;
