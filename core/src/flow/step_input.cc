@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "../branch_free.h"
+
 namespace seep::core::flow_internal {
 
 std::string FormatNumber(double value) { return fmt::format("{:.6g}", value); }
@@ -20,7 +22,13 @@ Status CheckStepInput(std::string_view solver, double dt, std::size_t num_domain
                     solver, volume_change.size(), num_domains));
   }
   if (check_values) {
-    for (std::size_t d = 0; d < volume_change.size(); ++d) {
+    // Every flow update: a branch-free count first; the scan that names one only on failure.
+    const double* dv = volume_change.data();
+    const auto n = static_cast<std::ptrdiff_t>(volume_change.size());
+    double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
+    for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
+    for (std::size_t d = 0; bad > 0.0 && d < volume_change.size(); ++d) {
       if (!std::isfinite(volume_change[d])) {
         return InvalidArgument(fmt::format("flow.{}.volume_change[{}]: must be finite (got {})",
                                            solver, d, FormatNumber(volume_change[d])));
