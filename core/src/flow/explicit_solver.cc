@@ -18,9 +18,6 @@ namespace seep::core {
 
 namespace {
 
-// The pipe of an entry of ExplicitSolver::pipes_of_ (p, or ~p for its end b).
-inline std::int32_t PipeOf(std::int32_t entry) { return entry ^ (entry >> 31); }
-
 // q = C (P_b - P_a) flows from b into a. Storage order, so a locality-ordered network streams.
 void AccumulatePipeFlows(std::size_t num_pipes, const std::int32_t* __restrict a,
                          const std::int32_t* __restrict b, const double* __restrict c,
@@ -133,10 +130,9 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
   return Status::Ok();
 }
 
-// Per domain, its pipes in ascending pipe order, p where the domain is the pipe's end a and ~p
-// where it is end b (a pipe with both ends in one domain twice, a first): the order in which a
-// pass over the pipes adds to it, so that a pass over the domains on the threads adds the same
-// terms in the same order and gives the same bits.
+// Per domain, its pipes in ascending pipe order: the order in which a pass over the pipes adds
+// to it, so that a pass over the domains on the threads adds the same terms in the same order
+// and gives the same bits.
 void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
   const std::size_t n = network.num_domains();
   const auto a = network.pipe_domain_a();
@@ -153,7 +149,7 @@ void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
     pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(a[p])]++)] =
         static_cast<std::int32_t>(p);
     pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(b[p])]++)] =
-        ~static_cast<std::int32_t>(p);
+        static_cast<std::int32_t>(p);
   }
 }
 
@@ -202,7 +198,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
       double sum = sum_c[d];
       if (gather) {
         sum = 0.0;
-        for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[PipeOf(pipes_of[k])];
+        for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[pipes_of[k]];
         sum_c[d] = sum;
       }
       capacity[d] = 0.0;

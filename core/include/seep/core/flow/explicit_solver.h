@@ -95,8 +95,7 @@ class ExplicitSolver {
   std::vector<double> rate_;      // K_f / V_s (0 for fixed), 1/(Pa s) per m^2.
   std::vector<double> capacity_;  // V_s / K_f (0 for fixed), m^2/Pa.
   std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
-  // Per domain (CSR, for the topology of topology_stamp_): its pipes in ascending order, ~p where
-  // it is the pipe's end b.
+  // Per domain (CSR, for the topology of topology_stamp_): its pipes in ascending order.
   std::vector<std::int32_t> pipes_of_start_;
   std::vector<std::int32_t> pipes_of_;
   std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
