@@ -7,8 +7,9 @@
 namespace seep::core {
 
 enum class LinearSolverKind {
-  // The default: Eigen's SimplicialLDLT below kSupernodalMinUnknowns unknowns, CHOLMOD supernodal
-  // from there on, chosen at each symbolic analysis (a function of the system, so of the scene:
+  // Eigen's SimplicialLDLT below kSupernodalMinUnknowns unknowns, CHOLMOD supernodal from there
+  // on (a scene asks for it with solver.linear_solver AUTO; its default is kCholmodSupernodal),
+  // chosen at each symbolic analysis (a function of the system, so of the scene:
   // runs stay deterministic). Below the switch CHOLMOD's supernodal numeric factorization costs
   // 5-10x a simplicial one: it opens OpenMP regions and allocates per supernode, and a small
   // network has hundreds of tiny supernodes (400 unknowns: 345 us against 32 us; 1e4: 10.1 ms
