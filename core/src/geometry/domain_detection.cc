@@ -87,6 +87,7 @@ Status DomainDetector::Detect(const Packing& packing, const ContactList& contact
                               const DomainDetectionOptions& options, DomainNetwork* network) {
   g_domain_detection_calls.fetch_add(1, std::memory_order_relaxed);
   network->Clear();
+  hosts_located_ = false;
   SEEP_RETURN_IF_ERROR(CheckInput(packing, contacts));
   BuildGraph(packing, contacts, options);
   Trace(packing, contacts, network);
@@ -100,6 +101,7 @@ Status DomainDetector::Detect(const Packing& packing, const ContactList& contact
   if (walls.empty()) return Detect(packing, contacts, options, network);
   g_domain_detection_calls.fetch_add(1, std::memory_order_relaxed);
   network->Clear();
+  hosts_located_ = false;
   SEEP_RETURN_IF_ERROR(CheckInput(packing, contacts));
   for (std::size_t k = 0; k < wall_contacts.gap.size(); ++k) {
     if (!(wall_contacts.gap[k] <= options.max_gap)) {
@@ -495,7 +497,8 @@ void DomainDetector::EmitNetwork(const Packing& packing, const ContactList& cont
   net.euler.components = static_cast<std::int64_t>(num_components);
   net.num_pruned_particles = static_cast<std::int64_t>(alive_.size()) - live_vertices;
 
-  if (net.num_pruned_particles > 0 || num_components > 1) {
+  hosts_located_ = net.num_pruned_particles > 0 || num_components > 1;
+  if (hosts_located_) {
     LocateRattlersAndIslands(packing, contacts, network);
   }
 
@@ -547,6 +550,11 @@ void DomainDetector::EmitNetwork(const Packing& packing, const ContactList& cont
     net.boundary_pipe_x.push_back(x[i] + along * dx);
     net.boundary_pipe_y.push_back(y[i] + along * dy);
   }
+}
+
+std::span<const std::int32_t> DomainDetector::pruned_particle_hosts() const {
+  if (!hosts_located_) return {};
+  return particle_host_;
 }
 
 Result<DomainNetwork> DetectDomains(const Packing& packing, const ContactList& contacts,

@@ -158,6 +158,14 @@ class DomainDetector {
 
   std::size_t MemoryBytes() const;
 
+  // After a Detect without walls, per particle: its connected component in the pruned graph, or
+  // -1 if pruned (what LocalDomainDetector starts from).
+  std::span<const std::int32_t> particle_components() const { return component_; }
+  // After such a Detect, per particle: the domain holding it if pruned, -1 if it is live or lies
+  // outside every domain. Empty when nothing was pruned and the graph is connected (nothing was
+  // located then).
+  std::span<const std::int32_t> pruned_particle_hosts() const;
+
  private:
   Status CheckInput(const Packing& packing, const ContactList& contacts) const;
   void BuildGraph(const Packing& packing, const ContactList& contacts,
@@ -205,6 +213,7 @@ class DomainDetector {
   std::vector<double> domain_box_;           // per domain: xmin, ymin, xmax, ymax
   std::vector<std::int32_t> particle_host_;  // per pruned particle: domain holding it, or -1
   std::vector<std::int32_t> pruned_parent_;  // union-find over edges between pruned particles
+  bool hosts_located_ = false;               // particle_host_ belongs to the current call
   double max_gap_ = 0.0;                     // edge threshold of the current call
   // The graph with its wall vertices and edges (a detection with walls only).
   Packing wall_graph_packing_;
