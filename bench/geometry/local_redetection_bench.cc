@@ -111,8 +111,8 @@ int Run(const char* name, const Packing& packing, double max_gap, int changes) {
   Timings breaks;
   Timings forms;
   for (int k = 0; k < changes; ++k) {
-    const std::size_t c = static_cast<std::size_t>(
-        seep::core::UniformUnit(rng()) * static_cast<double>(contacts.size()));
+    const std::size_t c = static_cast<std::size_t>(seep::core::UniformUnit(rng()) *
+                                                   static_cast<double>(contacts.size()));
     const auto a = std::chrono::steady_clock::now();
     const bool removed = local.RemoveContact(contacts.i[c], contacts.j[c]).ok();
     const auto b = std::chrono::steady_clock::now();
@@ -129,17 +129,19 @@ int Run(const char* name, const Packing& packing, double max_gap, int changes) {
   const bool identical = SameNetwork(full, patched);
 
   std::printf("%s\n", name);
-  std::printf("  particles %zu, contacts %zu, domains %zu; local detector %.1f bytes per particle\n",
-              packing.size(), contacts.size(), full.num_domains(),
-              static_cast<double>(local.MemoryBytes()) / static_cast<double>(packing.size()));
+  std::printf(
+      "  particles %zu, contacts %zu, domains %zu; local detector %.1f bytes per particle\n",
+      packing.size(), contacts.size(), full.num_domains(),
+      static_cast<double>(local.MemoryBytes()) / static_cast<double>(packing.size()));
   std::printf("  full re-detection (DomainDetector, best of 3): %.2f ms; Reset %.2f ms\n",
               1e3 * full_seconds, 1e3 * reset_seconds);
   Print("break", breaks, full_seconds);
   Print("re-form", forms, full_seconds);
   const double p99 = 1e6 * Quantile(breaks.seconds, 0.99);
-  std::printf("  one broken contact, p99 %.2f us (limit %.0f us): %s; network after %d changes %s\n",
-              p99, kLimitMicroseconds, p99 <= kLimitMicroseconds ? "PASS" : "MISS", changes,
-              identical ? "identical to a full re-detection" : "DIFFERS from a full re-detection");
+  std::printf(
+      "  one broken contact, p99 %.2f us (limit %.0f us): %s; network after %d changes %s\n", p99,
+      kLimitMicroseconds, p99 <= kLimitMicroseconds ? "PASS" : "MISS", changes,
+      identical ? "identical to a full re-detection" : "DIFFERS from a full re-detection");
   return identical ? 0 : 1;
 }
 

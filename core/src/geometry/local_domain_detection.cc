@@ -196,16 +196,14 @@ void LocalDomainDetector::BuildFrom(const ContactList& contacts, const DomainNet
     if (host >= 0) ++face_islands_[Index(host)];
   }
   num_unhosted_pruned_ = 0;
+  outside_first_held_ = -1;
   host_face_.assign(n, -1);
   next_held_.assign(n, -1);
+  particle_mark_.assign(n, -1);
+  tree_nodes_.clear();
   const std::span<const std::int32_t> hosts = detector.pruned_particle_hosts();
   for (std::size_t v = 0; v < hosts.size(); ++v) {
-    if (alive_[v]) continue;
-    if (hosts[v] >= 0) {
-      HoldParticle(static_cast<std::int32_t>(v), hosts[v]);
-    } else {
-      ++num_unhosted_pruned_;
-    }
+    if (!alive_[v]) HoldParticle(static_cast<std::int32_t>(v), hosts[v]);
   }
   num_pruned_ = network.num_pruned_particles;
   num_nonpositive_domains_ = network.num_nonpositive_domains;
@@ -406,6 +404,13 @@ void LocalDomainDetector::TraceFace(std::int32_t seed, std::int32_t f) {
   face_component_[k] = component_[v0];
 }
 
+void LocalDomainDetector::FinishLocal(bool* done) {
+  ClearTreeMarks();
+  last_update_ = Update::kLocal;
+  ++num_local_updates_;
+  *done = true;
+}
+
 bool LocalDomainDetector::IsOuter(std::int32_t f) const {
   const FaceKind kind = face_kind_[Index(f)];
   return kind == FaceKind::kOuter || kind == FaceKind::kIslandOuter;
@@ -415,14 +420,12 @@ bool LocalDomainDetector::HoldsIsland(std::int32_t f) const {
   return face_islands_[Index(f)] > 0 || face_kind_[Index(f)] == FaceKind::kIslandOuter;
 }
 
-bool LocalDomainDetector::HoldsAnything(std::int32_t f) const {
-  return HoldsIsland(f) || face_first_held_[Index(f)] >= 0;
-}
-
 void LocalDomainDetector::HoldParticle(std::int32_t p, std::int32_t f) {
+  std::int32_t& first = FirstHeld(f);
   host_face_[Index(p)] = f;
-  next_held_[Index(p)] = face_first_held_[Index(f)];
-  face_first_held_[Index(f)] = p;
+  next_held_[Index(p)] = first;
+  first = p;
+  if (f < 0) ++num_unhosted_pruned_;
 }
 
 void LocalDomainDetector::MoveHeldParticles(std::int32_t from, std::int32_t to) {
@@ -430,13 +433,7 @@ void LocalDomainDetector::MoveHeldParticles(std::int32_t from, std::int32_t to) 
   face_first_held_[Index(from)] = -1;
   while (p >= 0) {
     const std::int32_t next = next_held_[Index(p)];
-    if (to >= 0) {
-      HoldParticle(p, to);
-    } else {
-      host_face_[Index(p)] = -1;
-      next_held_[Index(p)] = -1;
-      ++num_unhosted_pruned_;
-    }
+    HoldParticle(p, to);
     p = next;
   }
 }
@@ -495,12 +492,15 @@ Status LocalDomainDetector::RemoveContact(std::int32_t i, std::int32_t j) {
   }
   // Not an edge. A pruned particle's contacts decide its tree and its lens corrections.
   const bool pruned_end = !alive_[Index(i)] || !alive_[Index(j)];
-  const bool matters = pruned_end && (edge_gap_[Index(e)] <= options_.max_gap ||
-                                      edge_half_lens_[Index(e)] != 0.0);
+  const bool matters = pruned_end && (Eligible(e) || edge_half_lens_[Index(e)] != 0.0);
   FreeEdge(e);
-  if (matters) return FullUpdate();
-  last_update_ = Update::kContactListOnly;
-  return Status::Ok();
+  if (!matters) {
+    last_update_ = Update::kContactListOnly;
+    return Status::Ok();
+  }
+  bool done = false;
+  SEEP_RETURN_IF_ERROR(RemoveTreeContactLocally(i, j, &done));
+  return done ? Status::Ok() : FullUpdate();
 }
 
 Status LocalDomainDetector::RemoveEdgeLocally(std::int32_t e, bool* done) {
@@ -569,20 +569,12 @@ Status LocalDomainDetector::RemoveEdgeLocally(std::int32_t e, bool* done) {
   const std::int32_t host = IsOuter(keep) ? -1 : keep;
   MoveHeldParticles(drop, host);
   if (host < 0) MoveHeldParticles(keep, host);
-  for (const std::int32_t v : pruned_now_) {
-    if (host >= 0) {
-      HoldParticle(v, host);
-    } else {
-      ++num_unhosted_pruned_;
-    }
-  }
+  for (const std::int32_t v : pruned_now_) HoldParticle(v, host);
   if (host >= 0) {
     CorrectForHeldParticles(host);
     if (!(face_area_[Index(host)] > 0.0)) return Status::Ok();  // full update
   }
-  last_update_ = Update::kLocal;
-  ++num_local_updates_;
-  *done = true;
+  FinishLocal(done);
   return Status::Ok();
 }
 
@@ -604,14 +596,15 @@ Status LocalDomainDetector::AddContact(std::int32_t i, std::int32_t j, double ga
   }
   const std::int32_t e = NewEdge(i, j, gap);
   const bool pruned_end = !alive_[Index(i)] || !alive_[Index(j)];
-  if (!(gap <= options_.max_gap)) {
-    if (pruned_end && edge_half_lens_[Index(e)] != 0.0) return FullUpdate();
+  bool done = false;
+  if (pruned_end && (Eligible(e) || edge_half_lens_[Index(e)] != 0.0)) {
+    SEEP_RETURN_IF_ERROR(AddTreeContactLocally(e, &done));
+  } else if (!Eligible(e)) {
     last_update_ = Update::kContactListOnly;
     return Status::Ok();
+  } else {
+    SEEP_RETURN_IF_ERROR(AddEdgeLocally(e, &done));
   }
-  if (pruned_end) return FullUpdate();
-  bool done = false;
-  SEEP_RETURN_IF_ERROR(AddEdgeLocally(e, &done));
   return done ? Status::Ok() : FullUpdate();
 }
 
@@ -631,10 +624,11 @@ Status LocalDomainDetector::AddEdgeLocally(std::int32_t e, bool* done) {
   const std::int32_t before_h = WedgeBefore(i, angle_h, j);
   const std::int32_t before_t = WedgeBefore(j, angle_t, i);
   const std::int32_t old_face = he_face_[Index(before_h)];
-  if (he_face_[Index(before_t)] != old_face || HoldsAnything(old_face)) return Status::Ok();
+  if (he_face_[Index(before_t)] != old_face || HoldsIsland(old_face)) return Status::Ok();
   const bool was_outer = IsOuter(old_face);
-  // A pruned particle outside every domain may lie in the part the new contact closes off.
-  if (was_outer && num_unhosted_pruned_ > 0) return Status::Ok();
+  // What the face held (for the outer face: everything outside all domains) is located again.
+  ClearTreeMarks();
+  CollectHeld(was_outer ? -1 : old_face);
 
   he_angle_[Index(h)] = angle_h;
   he_angle_[Index(t)] = angle_t;
@@ -666,9 +660,13 @@ Status LocalDomainDetector::AddEdgeLocally(std::int32_t e, bool* done) {
   } else if (!(area_h > 0.0) || !(area_t > 0.0)) {
     return Status::Ok();
   }
-  last_update_ = Update::kLocal;
-  ++num_local_updates_;
-  *done = true;
+  const std::int32_t split[] = {face_h, face_t};
+  if (!HostTrees(split, was_outer)) return Status::Ok();
+  HoldTreeNodes();
+  for (const std::int32_t f : split) {
+    if (face_kind_[Index(f)] == FaceKind::kDomain) CorrectForHeldParticles(f);
+  }
+  FinishLocal(done);
   return Status::Ok();
 }
 
@@ -831,15 +829,16 @@ void LocalDomainDetector::Emit(DomainNetwork* network) const {
 
 std::size_t LocalDomainDetector::MemoryBytes() const {
   return packing_.MemoryBytes() + Bytes(edge_gap_) + Bytes(edge_half_lens_) + Bytes(edge_used_) +
-         Bytes(edge_in_graph_) + Bytes(free_edges_) + Bytes(he_origin_) +
-         Bytes(he_next_incident_) + Bytes(he_ccw_) + Bytes(he_cw_) + Bytes(he_angle_) +
-         Bytes(he_face_) + Bytes(first_incident_) + Bytes(rotation_first_) + Bytes(degree_) +
-         Bytes(alive_) + Bytes(component_) + Bytes(face_kind_) + Bytes(face_start_) +
-         Bytes(face_area_) + Bytes(face_pore_) + Bytes(face_centroid_x_) +
-         Bytes(face_centroid_y_) + Bytes(face_first_held_) + Bytes(face_islands_) +
-         Bytes(face_component_) + Bytes(host_face_) + Bytes(next_held_) + Bytes(pruned_now_) + Bytes(held_lenses_) +
-         Bytes(free_faces_) + Bytes(component_outer_face_) + Bytes(component_host_face_) +
-         Bytes(scratch_);
+         Bytes(edge_in_graph_) + Bytes(free_edges_) + Bytes(he_origin_) + Bytes(he_next_incident_) +
+         Bytes(he_ccw_) + Bytes(he_cw_) + Bytes(he_angle_) + Bytes(he_face_) +
+         Bytes(first_incident_) + Bytes(rotation_first_) + Bytes(degree_) + Bytes(alive_) +
+         Bytes(component_) + Bytes(face_kind_) + Bytes(face_start_) + Bytes(face_area_) +
+         Bytes(face_pore_) + Bytes(face_centroid_x_) + Bytes(face_centroid_y_) +
+         Bytes(face_first_held_) + Bytes(face_islands_) + Bytes(face_component_) +
+         Bytes(host_face_) + Bytes(next_held_) + Bytes(pruned_now_) + Bytes(held_lenses_) +
+         Bytes(particle_mark_) + Bytes(tree_nodes_) + Bytes(tree_hosts_) + Bytes(tree_degree_) +
+         Bytes(new_edges_) + Bytes(new_faces_) + Bytes(old_face_edges_) + Bytes(free_faces_) +
+         Bytes(component_outer_face_) + Bytes(component_host_face_) + Bytes(scratch_);
 }
 
 }  // namespace seep::core

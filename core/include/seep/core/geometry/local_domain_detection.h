@@ -14,20 +14,23 @@
 //
 // Cases a local patch cannot decide exactly fall back to a full re-detection of the current
 // contacts (counted in num_full_updates()):
-//   - a new contact or a contact above max_gap touches a pruned particle (trees change);
 //   - a broken contact has one face on both sides (a bridge: components change), or its
-//     component is pruned away entirely, or a new one joins two components or two different
-//     faces (not a planar split);
-//   - a face beside the change holds an island or is an island's outer face; a split face holds
-//     pruned particles, or is the outer face while some pruned particle lies outside every domain
-//     (they would need locating again);
+//     component is pruned away entirely; a new one joins two components, or two different faces
+//     (not a planar split), or closes a cycle in a tree hanging from nothing (a new component);
+//   - a face beside the change holds an island or is an island's outer face;
+//   - a free tree would have to be located outside the faces the change makes;
 //   - the network has a domain of non-positive area (a non-planar embedding, where the outer
 //     face is chosen by area among all faces), or a new face would be one.
 // A broken contact that leaves a particle with one graph edge prunes it, and so on down the chain,
 // locally: the chain hangs into the merged face, which then holds it (DomainDetector's rule for a
 // tree attached by one edge), and the merged face's V_p gets DomainDetector's corrections for the
 // pruned particles it holds, recomputed in DomainDetector's order. Merged faces keep what the two
-// faces held. Contacts whose gap is above max_gap (not edges) only change the contact list.
+// faces held; the particles a split face held (for the outer face: every particle outside all
+// domains) are located again in the new faces by DomainDetector's rules. A contact that touches a
+// pruned tree re-hosts it, or brings the path or cycle it closes back into the graph and splits
+// the face it hung in (local_domain_trees.cc). Contacts whose gap is above max_gap (not edges)
+// only change the contact list. A free tree is located by point in the faces the change made; so,
+// as in DomainDetector, exactness assumes a planar embedding, where faces do not overlap.
 //
 // Positions are those given to Reset (a copy is kept): the network is that of the packing at
 // Reset with the current contacts. Walls are not supported (DomainDetector's wall graph).
@@ -35,6 +38,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
+#include <span>
 #include <vector>
 
 #include "seep/core/geometry/contact_detection.h"
@@ -106,17 +111,51 @@ class LocalDomainDetector {
   bool IsOuter(std::int32_t f) const;
   // A merge of face f cannot be exact: an island's outer face, or a face holding an island.
   bool HoldsIsland(std::int32_t f) const;
-  // A split of face f cannot be exact: it also holds pruned particles (they would need locating).
-  bool HoldsAnything(std::int32_t f) const;
   // Domain f's V_p from its traced value, with DomainDetector's corrections for the pruned
   // particles it holds, in the same order (disks by particle id, then lenses by contact).
   void CorrectForHeldParticles(std::int32_t f);
   // Moves the particles held by `from` to `to` (-1: outside every domain).
   void MoveHeldParticles(std::int32_t from, std::int32_t to);
-  void HoldParticle(std::int32_t p, std::int32_t f);
+  void HoldParticle(std::int32_t p, std::int32_t f);  // f = -1: outside every domain
+  // The first particle held by face f, or outside every domain for f = -1.
+  std::int32_t& FirstHeld(std::int32_t f) {
+    return f >= 0 ? face_first_held_[static_cast<std::size_t>(f)] : outside_first_held_;
+  }
+  // Marks and queues in tree_nodes_ the particles face f holds, and takes them off its list.
+  void CollectHeld(std::int32_t f);
 
+  void FinishLocal(bool* done);  // counts a local update as done
   Status RemoveEdgeLocally(std::int32_t e, bool* done);
   Status AddEdgeLocally(std::int32_t e, bool* done);
+
+  // ---- pruned trees (local_domain_trees.cc) ----
+  bool Eligible(std::int32_t e) const {  // an edge of the graph once both ends are live
+    return edge_gap_[static_cast<std::size_t>(e)] <= options_.max_gap;
+  }
+  // Appends to tree_nodes_ the pruned trees holding `seeds` (eligible contacts between pruned
+  // particles, not crossing skip_edge), marking each with its index in tree_nodes_.
+  void CollectTrees(std::initializer_list<std::int32_t> seeds, std::int32_t skip_edge);
+  void ClearTreeMarks();
+  // DomainDetector's host of each particle of tree_nodes_ (whole trees, marked) into
+  // tree_hosts_: the face of the attachment's wedge, or for a free tree the smallest of
+  // `candidates` holding its lowest particle's centre (-1 if none and outside_ok). False if a
+  // tree would need locating elsewhere.
+  bool HostTrees(std::span<const std::int32_t> candidates, bool outside_ok);
+  // The host (domain face, or -1) of a tree hanging from `live` towards `hanging`.
+  std::int32_t HostOfWedge(std::int32_t live, std::int32_t hanging) const;
+  // DomainDetector's point-in-domain test (bounding box, then even-odd through the centres).
+  bool FaceContains(std::int32_t f, double px, double py) const;
+  // Takes the marked particles off their hosts' lists.
+  void UnholdMarked();
+  void HoldTreeNodes();                  // each particle of tree_nodes_ by its tree_hosts_ entry
+  void RecomputeDomain(std::int32_t f);  // trace again and correct: bit-identical to a fresh one
+  // Takes tree_nodes_ (whole trees) off their hosts, hosts them again (a free one in one of its
+  // old hosts) and recomputes every domain that lost or gained one. False: not decidable here.
+  bool RehostTrees();
+  // A new eligible contact with a pruned end: trees join, attach, or close cycles that come live.
+  Status AddTreeContactLocally(std::int32_t e, bool* done);
+  // A broken eligible contact (already freed) between a pruned particle and another.
+  Status RemoveTreeContactLocally(std::int32_t i, std::int32_t j, bool* done);
 
   Packing packing_;
   DomainDetectionOptions options_;
@@ -159,14 +198,22 @@ class LocalDomainDetector {
 
   std::int64_t num_pruned_ = 0;
   std::int64_t num_unhosted_pruned_ = 0;  // pruned particles outside every domain
+  std::int32_t outside_first_held_ = -1;  // their list
   std::int64_t num_nonpositive_domains_ = 0;
   std::size_t num_contacts_ = 0;
   std::size_t num_domains_ = 0;
   std::int64_t num_graph_edges_ = 0;
   std::int64_t num_faces_ = 0;
-  std::vector<std::int32_t> scratch_;  // half-edges of a face being traced
-  std::vector<std::int32_t> pruned_now_;   // particles a broken contact prunes
-  std::vector<std::int32_t> held_lenses_;  // lens edges of a face's held particles
+  std::vector<std::int32_t> scratch_;        // half-edges of a face being traced
+  std::vector<std::int32_t> pruned_now_;     // particles a broken contact prunes
+  std::vector<std::int32_t> held_lenses_;    // lens edges of a face's held particles
+  std::vector<std::int32_t> particle_mark_;  // per particle: index in tree_nodes_, -1 otherwise
+  std::vector<std::int32_t> tree_nodes_;
+  std::vector<std::int32_t> tree_hosts_;
+  std::vector<std::int32_t> tree_degree_;
+  std::vector<std::int32_t> new_edges_;
+  std::vector<std::int32_t> new_faces_;
+  std::vector<std::int32_t> old_face_edges_;
 
   Update last_update_ = Update::kFull;
   std::int64_t num_local_updates_ = 0;
