@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -106,6 +108,9 @@ void RunRandomSequence(std::uint64_t seed, int steps, double break_probability,
   std::vector<Contact> current = ToVector(*listed);
   std::vector<Contact> broken;
   ExpectMatchesFullDetection(packing, local, current, max_gap);
+  DomainNetwork start;
+  local.Emit(&start);
+  ASSERT_GT(start.num_pruned_particles, 0);  // rattlers and trees: their paths are exercised too
 
   std::mt19937_64 rng(seed);
   int local_updates = 0;
@@ -246,6 +251,51 @@ TEST(LocalDomainDetection, ComponentChangesFallBackToAFullDetection) {
   EXPECT_EQ(local.last_update(), LocalDomainDetector::Update::kLocal);
   std::erase_if(current, [](const Contact& c) { return c.i == 0 && c.j == 1; });
   ExpectMatchesFullDetection(packing, local, current, max_gap);
+}
+
+// An island (a 3 x 2 lattice, two squares) inside a ring of 16 disks: the island's inner bond
+// merges and splits its own two domains locally; a change beside the host domain, which holds the
+// island, falls back, and so does a broken ring (its whole component is pruned away).
+TEST(LocalDomainDetection, IslandsKeepTheirHostAndFallBackAroundIt) {
+  Packing packing;
+  const double R = 1.0;
+  const int ring = 16;
+  const double rho = R / std::sin(std::numbers::pi / ring);
+  for (int k = 0; k < ring; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / ring;
+    packing.Add(rho * std::cos(a), rho * std::sin(a), R);
+  }
+  for (int row = 0; row < 2; ++row) {
+    for (int col = 0; col < 3; ++col) packing.Add(2.0 * (col - 1), 2.0 * row - 1.0, R);
+  }
+  const double max_gap = 1e-9;
+  const ContactList contacts = DetectContacts(packing, max_gap).value();
+  LocalDomainDetector local;
+  ASSERT_TRUE(local.Reset(packing, contacts, {max_gap}).ok());
+  DomainNetwork net;
+  local.Emit(&net);
+  ASSERT_EQ(net.euler.components, 2);
+  ASSERT_EQ(net.num_domains(), 3u);
+  std::vector<Contact> current = ToVector(contacts);
+
+  // The island's middle bond: particles 17 and 20 (column 1 of rows 0 and 1).
+  ASSERT_TRUE(local.RemoveContact(17, 20).ok());
+  EXPECT_EQ(local.last_update(), LocalDomainDetector::Update::kLocal);
+  std::erase_if(current, [](const Contact& c) { return c.i == 17 && c.j == 20; });
+  ExpectMatchesFullDetection(packing, local, current, max_gap);
+  ASSERT_TRUE(local.AddContact(17, 20, 0.0).ok());
+  EXPECT_EQ(local.last_update(), LocalDomainDetector::Update::kLocal);
+  current.push_back({17, 20, 0.0});
+  ExpectMatchesFullDetection(packing, local, current, max_gap);
+
+  // A ring bond: the ring is pruned away, the island becomes top level.
+  ASSERT_TRUE(local.RemoveContact(0, 1).ok());
+  EXPECT_EQ(local.last_update(), LocalDomainDetector::Update::kFull);
+  std::erase_if(current, [](const Contact& c) { return c.i == 0 && c.j == 1; });
+  ExpectMatchesFullDetection(packing, local, current, max_gap);
+  local.Emit(&net);
+  EXPECT_EQ(net.num_domains(), 2u);
+  EXPECT_EQ(net.num_pruned_particles, ring);
 }
 
 TEST(LocalDomainDetection, BadChangesAreRejectedAndChangeNothing) {
