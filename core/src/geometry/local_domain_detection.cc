@@ -195,7 +195,6 @@ void LocalDomainDetector::BuildFrom(const ContactList& contacts, const DomainNet
     component_host_face_[k] = host;
     if (host >= 0) ++face_islands_[Index(host)];
   }
-  num_unhosted_pruned_ = 0;
   outside_first_held_ = -1;
   host_face_.assign(n, -1);
   next_held_.assign(n, -1);
@@ -205,7 +204,6 @@ void LocalDomainDetector::BuildFrom(const ContactList& contacts, const DomainNet
   for (std::size_t v = 0; v < hosts.size(); ++v) {
     if (!alive_[v]) HoldParticle(static_cast<std::int32_t>(v), hosts[v]);
   }
-  num_pruned_ = network.num_pruned_particles;
   num_nonpositive_domains_ = network.num_nonpositive_domains;
   num_contacts_ = m;
   num_domains_ = num_domains;
@@ -425,7 +423,6 @@ void LocalDomainDetector::HoldParticle(std::int32_t p, std::int32_t f) {
   host_face_[Index(p)] = f;
   next_held_[Index(p)] = first;
   first = p;
-  if (f < 0) ++num_unhosted_pruned_;
 }
 
 void LocalDomainDetector::MoveHeldParticles(std::int32_t from, std::int32_t to) {
@@ -542,7 +539,6 @@ Status LocalDomainDetector::RemoveEdgeLocally(std::int32_t e, bool* done) {
     const std::int32_t v = pruned_now_[head];
     const std::int32_t g = rotation_first_[Index(v)];
     component_[Index(v)] = -1;
-    ++num_pruned_;
     if (g < 0) continue;
     const std::int32_t k = Target(g);
     UnlinkRotation(g);

@@ -179,7 +179,6 @@ void LocalDomainDetector::UnholdMarked() {
       const std::int32_t p = *link;
       if (particle_mark_[Index(p)] >= 0) {
         *link = next_held_[Index(p)];
-        if (host < 0) --num_unhosted_pruned_;
         host_face_[Index(p)] = kUnset;
         next_held_[Index(p)] = -1;
       } else {
@@ -192,7 +191,11 @@ void LocalDomainDetector::UnholdMarked() {
 void LocalDomainDetector::HoldTreeNodes() {
   for (std::size_t k = 0; k < tree_nodes_.size(); ++k) {
     const std::int32_t v = tree_nodes_[k];
-    if (!alive_[Index(v)]) HoldParticle(v, tree_hosts_[k]);
+    if (alive_[Index(v)]) {
+      host_face_[Index(v)] = -1;  // back in the graph
+    } else {
+      HoldParticle(v, tree_hosts_[k]);
+    }
   }
 }
 
@@ -339,7 +342,6 @@ Status LocalDomainDetector::AddTreeContactLocally(std::int32_t e, bool* done) {
     const std::int32_t v = tree_nodes_[k];
     alive_[Index(v)] = 1;
     component_[Index(v)] = component;
-    --num_pruned_;
   }
   for (const std::int32_t g : new_edges_) {
     const std::int32_t i = Origin(2 * g);

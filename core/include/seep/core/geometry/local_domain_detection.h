@@ -109,7 +109,7 @@ class LocalDomainDetector {
   // Labels the face through `seed` as f and computes its sums as DomainDetector::TraceFaces does.
   void TraceFace(std::int32_t seed, std::int32_t f);
   bool IsOuter(std::int32_t f) const;
-  // A merge of face f cannot be exact: an island's outer face, or a face holding an island.
+  // A change beside face f cannot be exact: an island's outer face, or a face holding an island.
   bool HoldsIsland(std::int32_t f) const;
   // Domain f's V_p from its traced value, with DomainDetector's corrections for the pruned
   // particles it holds, in the same order (disks by particle id, then lenses by contact).
@@ -121,7 +121,8 @@ class LocalDomainDetector {
   std::int32_t& FirstHeld(std::int32_t f) {
     return f >= 0 ? face_first_held_[static_cast<std::size_t>(f)] : outside_first_held_;
   }
-  // Marks and queues in tree_nodes_ the particles face f holds, and takes them off its list.
+  // Marks and queues in tree_nodes_ the particles face f holds, then takes every marked particle
+  // off its host's list (UnholdMarked).
   void CollectHeld(std::int32_t f);
 
   void FinishLocal(bool* done);  // counts a local update as done
@@ -179,8 +180,10 @@ class LocalDomainDetector {
   std::vector<std::int32_t> degree_;          // graph degree
   std::vector<std::uint8_t> alive_;           // survived pruning
   std::vector<std::int32_t> component_;       // -1 if pruned
-  std::vector<std::int32_t> host_face_;       // a pruned particle's domain face, -1 if none
-  std::vector<std::int32_t> next_held_;       // the next particle held by the same face
+  // A pruned particle's domain face, -1 outside every domain (and for live particles); -2
+  // while a change re-hosts it.
+  std::vector<std::int32_t> host_face_;
+  std::vector<std::int32_t> next_held_;  // the next particle held by the same face
 
   // Faces (stable ids while they live; freed ids are reused).
   std::vector<FaceKind> face_kind_;
@@ -196,9 +199,7 @@ class LocalDomainDetector {
   std::vector<std::int32_t> component_outer_face_;
   std::vector<std::int32_t> component_host_face_;  // an island's host domain face, or -1
 
-  std::int64_t num_pruned_ = 0;
-  std::int64_t num_unhosted_pruned_ = 0;  // pruned particles outside every domain
-  std::int32_t outside_first_held_ = -1;  // their list
+  std::int32_t outside_first_held_ = -1;  // the pruned particles outside every domain (a list)
   std::int64_t num_nonpositive_domains_ = 0;
   std::size_t num_contacts_ = 0;
   std::size_t num_domains_ = 0;
