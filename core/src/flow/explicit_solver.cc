@@ -143,6 +143,7 @@ void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
     ++pipes_of_start_[static_cast<std::size_t>(b[p]) + 1];
   }
   for (std::size_t d = 0; d < n; ++d) pipes_of_start_[d + 1] += pipes_of_start_[d];
+  owner_threads_ = 0;
   pipes_of_.resize(2 * a.size());
   std::vector<std::int32_t> next(pipes_of_start_.begin(), pipes_of_start_.end() - 1);
   for (std::size_t p = 0; p < a.size(); ++p) {
@@ -151,6 +152,33 @@ void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
     pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(b[p])]++)] =
         static_cast<std::int32_t>(p);
   }
+}
+
+namespace {
+
+// Thread t's share of n items: a contiguous block, the same for every pass that uses it.
+std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t / threads; }
+
+}  // namespace
+
+void ExplicitSolver::IndexPipesByShare(std::size_t num_domains, int threads) {
+  const auto n = static_cast<std::ptrdiff_t>(num_domains);
+  owner_start_.assign(1, 0);
+  owner_pipes_.clear();
+  for (int t = 0; t < threads; ++t) {
+    const auto begin = owner_pipes_.size();
+    const auto lo = static_cast<std::size_t>(
+        pipes_of_start_[static_cast<std::size_t>(ShareBegin(n, t, threads))]);
+    const auto hi = static_cast<std::size_t>(
+        pipes_of_start_[static_cast<std::size_t>(ShareBegin(n, t + 1, threads))]);
+    owner_pipes_.insert(owner_pipes_.end(), pipes_of_.begin() + static_cast<std::ptrdiff_t>(lo),
+                        pipes_of_.begin() + static_cast<std::ptrdiff_t>(hi));
+    const auto first = owner_pipes_.begin() + static_cast<std::ptrdiff_t>(begin);
+    std::sort(first, owner_pipes_.end());
+    owner_pipes_.erase(std::unique(first, owner_pipes_.end()), owner_pipes_.end());
+    owner_start_.push_back(static_cast<std::int32_t>(owner_pipes_.size()));
+  }
+  owner_threads_ = threads;
 }
 
 Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
@@ -163,8 +191,6 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const double factor = options_.storage.factor;
   const double floor = options_.storage.floor_m2;
   const double bulk = options_.bulk_modulus;
-  const std::int32_t* __restrict start = pipes_of_start_.data();
-  const std::int32_t* __restrict pipes_of = pipes_of_.data();
   sum_c_.resize(n);
   capacity_.resize(n);
   rate_.resize(n);
@@ -176,31 +202,39 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   // limit is the lowest-index domain on ties as in one pass.
   const auto domains = static_cast<std::ptrdiff_t>(n);
   const int threads = domains >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
+  if (threads > 1 && owner_threads_ != threads) IndexPipesByShare(n, threads);
+  const std::int32_t* __restrict owner_start = owner_start_.data();
+  const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
   std::vector<CriticalTimeStep> share_limit(static_cast<std::size_t>(threads));
   bool any_non_positive = false;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(|| : any_non_positive)
   {
-    // sum C per domain: one thread adds pipe by pipe; threads gather each domain's pipes in the
-    // same order (IndexPipesByDomain), so both add the same terms in the same order.
-    const bool gather = threads > 1;
-    if (!gather) {
-      const std::int32_t* __restrict a = network.pipe_domain_a().data();
-      const std::int32_t* __restrict b = network.pipe_domain_b().data();
-      std::fill(sum_c, sum_c + n, 0.0);
+    // sum C per domain, pipe by pipe in pipe order. One thread passes over all pipes; on several,
+    // each passes over the pipes touching its share of the domains (IndexPipesByShare) and adds
+    // to its own domains only, so every domain gets the same terms in the same order.
+    const int t = omp_get_thread_num();
+    const std::ptrdiff_t lo = ShareBegin(domains, t, threads);
+    const std::ptrdiff_t hi = ShareBegin(domains, t + 1, threads);
+    const std::int32_t* __restrict a = network.pipe_domain_a().data();
+    const std::int32_t* __restrict b = network.pipe_domain_b().data();
+    std::fill(sum_c + lo, sum_c + hi, 0.0);
+    if (threads == 1) {
       for (std::size_t p = 0; p < network.num_pipes(); ++p) {
         sum_c[a[p]] += c[p];
         sum_c[b[p]] += c[p];
       }
+    } else {
+      for (std::int32_t k = owner_start[t]; k < owner_start[t + 1]; ++k) {
+        const std::int32_t p = owner_pipes[k];
+        const std::int32_t i = a[p];
+        const std::int32_t j = b[p];
+        if (i >= lo && i < hi) sum_c[i] += c[p];
+        if (j >= lo && j < hi) sum_c[j] += c[p];
+      }
     }
     CriticalTimeStep least;
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t d = 0; d < domains; ++d) {
-      double sum = sum_c[d];
-      if (gather) {
-        sum = 0.0;
-        for (std::int32_t k = start[d]; k < start[d + 1]; ++k) sum += c[pipes_of[k]];
-        sum_c[d] = sum;
-      }
+    for (std::ptrdiff_t d = lo; d < hi; ++d) {
+      const double sum = sum_c[d];
       capacity[d] = 0.0;
       rate[d] = 0.0;
       if (role[d] == DomainRole::kFixedPressure) continue;
@@ -221,7 +255,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
         least.limiting_conductance_sum = sum;
       }
     }
-    share_limit[static_cast<std::size_t>(omp_get_thread_num())] = least;
+    share_limit[static_cast<std::size_t>(t)] = least;
   }
   if (any_non_positive) {
     for (std::size_t d = 0; d < n; ++d) {

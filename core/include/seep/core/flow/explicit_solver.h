@@ -86,6 +86,7 @@ class ExplicitSolver {
   // Capacities, rates, the critical step and the sources from the current values (checking the
   // values they read); allocates only when the network grew.
   void IndexPipesByDomain(const FlowNetwork& network);
+  void IndexPipesByShare(std::size_t num_domains, int threads);
   Status RefreshCoefficients(const FlowNetwork& network);
 
   ExplicitSolverOptions options_;
@@ -98,6 +99,11 @@ class ExplicitSolver {
   // Per domain (CSR, for the topology of topology_stamp_): its pipes in ascending order.
   std::vector<std::int32_t> pipes_of_start_;
   std::vector<std::int32_t> pipes_of_;
+  // Per thread share of the domains (contiguous blocks, CSR): the pipes touching it, ascending;
+  // built for owner_threads_ threads (0: not built for this topology).
+  int owner_threads_ = 0;
+  std::vector<std::int32_t> owner_start_;
+  std::vector<std::int32_t> owner_pipes_;
   std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
