@@ -210,52 +210,55 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(|| : any_non_positive)
   {
     // sum C per domain, pipe by pipe in pipe order. One thread passes over all pipes; on several,
-    // each passes over the pipes touching its share of the domains (IndexPipesByShare) and adds
-    // to its own domains only, so every domain gets the same terms in the same order.
-    const int t = omp_get_thread_num();
-    const std::ptrdiff_t lo = ShareBegin(domains, t, threads);
-    const std::ptrdiff_t hi = ShareBegin(domains, t + 1, threads);
-    const std::int32_t* __restrict a = network.pipe_domain_a().data();
-    const std::int32_t* __restrict b = network.pipe_domain_b().data();
-    std::fill(sum_c + lo, sum_c + hi, 0.0);
-    if (threads == 1) {
-      for (std::size_t p = 0; p < network.num_pipes(); ++p) {
-        sum_c[a[p]] += c[p];
-        sum_c[b[p]] += c[p];
+    // each share of the domains is passed over the pipes touching it (IndexPipesByShare), adding
+    // to its own domains only, so every domain gets the same terms in the same order. A team
+    // smaller than asked for (OpenMP may give one) takes the shares in turn.
+    const int team = omp_get_num_threads();
+    for (int t = omp_get_thread_num(); t < threads; t += team) {
+      const std::ptrdiff_t lo = ShareBegin(domains, t, threads);
+      const std::ptrdiff_t hi = ShareBegin(domains, t + 1, threads);
+      const std::int32_t* __restrict a = network.pipe_domain_a().data();
+      const std::int32_t* __restrict b = network.pipe_domain_b().data();
+      std::fill(sum_c + lo, sum_c + hi, 0.0);
+      if (threads == 1) {
+        for (std::size_t p = 0; p < network.num_pipes(); ++p) {
+          sum_c[a[p]] += c[p];
+          sum_c[b[p]] += c[p];
+        }
+      } else {
+        for (std::int32_t k = owner_start[t]; k < owner_start[t + 1]; ++k) {
+          const std::int32_t p = owner_pipes[k];
+          const std::int32_t i = a[p];
+          const std::int32_t j = b[p];
+          if (i >= lo && i < hi) sum_c[i] += c[p];
+          if (j >= lo && j < hi) sum_c[j] += c[p];
+        }
       }
-    } else {
-      for (std::int32_t k = owner_start[t]; k < owner_start[t + 1]; ++k) {
-        const std::int32_t p = owner_pipes[k];
-        const std::int32_t i = a[p];
-        const std::int32_t j = b[p];
-        if (i >= lo && i < hi) sum_c[i] += c[p];
-        if (j >= lo && j < hi) sum_c[j] += c[p];
+      CriticalTimeStep least;
+      for (std::ptrdiff_t d = lo; d < hi; ++d) {
+        const double sum = sum_c[d];
+        capacity[d] = 0.0;
+        rate[d] = 0.0;
+        if (role[d] == DomainRole::kFixedPressure) continue;
+        // StorageVolumeOf, term by term.
+        const double vs = std::max(factor * volume[d], floor);
+        if (!(vs > 0.0)) {
+          any_non_positive = true;
+          continue;
+        }
+        capacity[d] = vs / bulk;
+        rate[d] = 1.0 / capacity[d];
+        // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
+        const double dt = sum > 0.0 ? vs / (bulk * sum) : std::numeric_limits<double>::infinity();
+        if (dt < least.dt_crit) {
+          least.dt_crit = dt;
+          least.limiting_domain = static_cast<std::int32_t>(d);
+          least.limiting_storage_volume = vs;
+          least.limiting_conductance_sum = sum;
+        }
       }
+      share_limit[static_cast<std::size_t>(t)] = least;
     }
-    CriticalTimeStep least;
-    for (std::ptrdiff_t d = lo; d < hi; ++d) {
-      const double sum = sum_c[d];
-      capacity[d] = 0.0;
-      rate[d] = 0.0;
-      if (role[d] == DomainRole::kFixedPressure) continue;
-      // StorageVolumeOf, term by term.
-      const double vs = std::max(factor * volume[d], floor);
-      if (!(vs > 0.0)) {
-        any_non_positive = true;
-        continue;
-      }
-      capacity[d] = vs / bulk;
-      rate[d] = 1.0 / capacity[d];
-      // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
-      const double dt = sum > 0.0 ? vs / (bulk * sum) : std::numeric_limits<double>::infinity();
-      if (dt < least.dt_crit) {
-        least.dt_crit = dt;
-        least.limiting_domain = static_cast<std::int32_t>(d);
-        least.limiting_storage_volume = vs;
-        least.limiting_conductance_sum = sum;
-      }
-    }
-    share_limit[static_cast<std::size_t>(t)] = least;
   }
   if (any_non_positive) {
     for (std::size_t d = 0; d < n; ++d) {

@@ -444,6 +444,12 @@ TEST(FlowNetwork, ExplicitStepsAreBitIdenticalOnAnyThreadCount) {
   EXPECT_EQ(run({2, 2, 2, 2}), reference);
   EXPECT_EQ(run({3, 3, 3, 3}), reference);
   EXPECT_EQ(run({1, 2, 3, 2}), reference);
+  // Asked for 3 threads, given a team of 1 (no active parallel level): one thread takes every
+  // share in turn.
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  EXPECT_EQ(run({3, 3, 3, 3}), reference);
+  omp_set_max_active_levels(levels);
   omp_set_num_threads(before);
 }
 
