@@ -12,14 +12,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <random>
 #include <string>
 
+#include "bench_beds.h"
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/geometry/packing.h"
 #include "seep/core/geometry/packing_file.h"
-#include "seep/core/geometry/random_packing.h"
 
 namespace {
 
@@ -99,19 +98,12 @@ int main(int argc, char** argv) {
   }
   failures += Run("hex lattice (touching, max_gap 1e-6 R)", *hex, 1e-6 * R, 5);
 
-  Packing jittered = *hex;
-  std::mt19937_64 rng(7);
-  for (std::size_t k = 0; k < jittered.size(); ++k) {
-    jittered.x[k] += 0.02 * R * (2 * seep::core::UniformUnit(rng()) - 1);
-    jittered.y[k] += 0.02 * R * (2 * seep::core::UniformUnit(rng()) - 1);
-  }
+  const Packing jittered = seep::bench::JitteredHexLattice(*hex, R);
   failures += Run("jittered hex lattice (+-2% R, max_gap 0.06 R)", jittered, 0.06 * R, 5);
 
   const seep::core::Result<Packing> bed = seep::core::LoadPackingFile(bed_path);
   if (bed.ok()) {
-    double mean = 0.0;
-    for (const double r : bed->radius) mean += r;
-    mean /= static_cast<double>(bed->size());
+    const double mean = seep::bench::MeanRadius(*bed);
     failures += Run("settled bed 9,900 (max_gap 1e-3 mean R)", *bed, 1e-3 * mean, 50);
   } else {
     std::printf("settled bed skipped: %s\n", bed.status().ToString().c_str());

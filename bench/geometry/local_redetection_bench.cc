@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_beds.h"
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
 #include "seep/core/geometry/local_domain_detection.h"
@@ -43,22 +44,6 @@ double Quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
   return v[std::min(k, v.size() - 1)];
-}
-
-// Field-by-field equality of two networks (doubles compared exactly).
-bool SameNetwork(const DomainNetwork& a, const DomainNetwork& b) {
-  return a.loop_offsets == b.loop_offsets && a.loop_particles == b.loop_particles &&
-         a.loop_contacts == b.loop_contacts && a.apparent_volume == b.apparent_volume &&
-         a.pore_volume == b.pore_volume && a.centroid_x == b.centroid_x &&
-         a.centroid_y == b.centroid_y && a.is_boundary == b.is_boundary &&
-         a.pipe_domain_a == b.pipe_domain_a && a.pipe_domain_b == b.pipe_domain_b &&
-         a.pipe_contact == b.pipe_contact && a.pipe_length == b.pipe_length &&
-         a.boundary_pipe_domain == b.boundary_pipe_domain &&
-         a.boundary_pipe_contact == b.boundary_pipe_contact &&
-         a.boundary_pipe_x == b.boundary_pipe_x && a.boundary_pipe_y == b.boundary_pipe_y &&
-         a.outer_particles == b.outer_particles && a.outer_area == b.outer_area &&
-         a.outer_host_domain == b.outer_host_domain && a.euler.cycles == b.euler.cycles &&
-         a.num_pruned_particles == b.num_pruned_particles;
 }
 
 struct Timings {
@@ -126,7 +111,7 @@ int Run(const char* name, const Packing& packing, double max_gap, int changes) {
   }
   DomainNetwork patched;
   local.Emit(&patched);
-  const bool identical = SameNetwork(full, patched);
+  const bool identical = full == patched;  // every field, doubles compared exactly
 
   std::printf("%s\n", name);
   std::printf(
@@ -160,19 +145,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", hex.status().ToString().c_str());
     return 1;
   }
-  Packing jittered = *hex;
-  std::mt19937_64 rng(7);
-  for (std::size_t k = 0; k < jittered.size(); ++k) {
-    jittered.x[k] += 0.02 * R * (2 * seep::core::UniformUnit(rng()) - 1);
-    jittered.y[k] += 0.02 * R * (2 * seep::core::UniformUnit(rng()) - 1);
-  }
+  const Packing jittered = seep::bench::JitteredHexLattice(*hex, R);
   failures += Run("jittered hex lattice (+-2% R, max_gap 0.06 R)", jittered, 0.06 * R, changes);
 
   const seep::core::Result<Packing> bed = seep::core::LoadPackingFile(bed_path);
   if (bed.ok()) {
-    double mean = 0.0;
-    for (const double r : bed->radius) mean += r;
-    mean /= static_cast<double>(bed->size());
+    const double mean = seep::bench::MeanRadius(*bed);
     failures += Run("settled bed 9,900 (max_gap 1e-3 mean R)", *bed, 1e-3 * mean, changes);
   } else {
     std::printf("settled bed skipped: %s\n", bed.status().ToString().c_str());

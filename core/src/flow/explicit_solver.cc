@@ -123,35 +123,11 @@ Status ExplicitSolver::Prepare(const FlowNetwork& network) {
   topology_stamp_ = 0;
   coefficient_stamp_ = 0;
   SEEP_RETURN_IF_ERROR(known_topology ? network.ValidateCoefficients() : network.Validate());
-  if (!known_topology) IndexPipesByDomain(network);
+  if (!known_topology) owner_threads_ = 0;  // the share lists are per topology
   SEEP_RETURN_IF_ERROR(RefreshCoefficients(network));
   topology_stamp_ = network.topology_version();
   coefficient_stamp_ = network.coefficient_version();
   return Status::Ok();
-}
-
-// Per domain, its pipes in ascending pipe order: the order in which a pass over the pipes adds
-// to it, so that a pass over the domains on the threads adds the same terms in the same order
-// and gives the same bits.
-void ExplicitSolver::IndexPipesByDomain(const FlowNetwork& network) {
-  const std::size_t n = network.num_domains();
-  const auto a = network.pipe_domain_a();
-  const auto b = network.pipe_domain_b();
-  pipes_of_start_.assign(n + 1, 0);
-  for (std::size_t p = 0; p < a.size(); ++p) {
-    ++pipes_of_start_[static_cast<std::size_t>(a[p]) + 1];
-    ++pipes_of_start_[static_cast<std::size_t>(b[p]) + 1];
-  }
-  for (std::size_t d = 0; d < n; ++d) pipes_of_start_[d + 1] += pipes_of_start_[d];
-  owner_threads_ = 0;
-  pipes_of_.resize(2 * a.size());
-  std::vector<std::int32_t> next(pipes_of_start_.begin(), pipes_of_start_.end() - 1);
-  for (std::size_t p = 0; p < a.size(); ++p) {
-    pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(a[p])]++)] =
-        static_cast<std::int32_t>(p);
-    pipes_of_[static_cast<std::size_t>(next[static_cast<std::size_t>(b[p])]++)] =
-        static_cast<std::int32_t>(p);
-  }
 }
 
 namespace {
@@ -161,21 +137,20 @@ std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t /
 
 }  // namespace
 
-void ExplicitSolver::IndexPipesByShare(std::size_t num_domains, int threads) {
-  const auto n = static_cast<std::ptrdiff_t>(num_domains);
+void ExplicitSolver::IndexPipesByShare(const FlowNetwork& network, int threads) {
+  const auto n = static_cast<std::ptrdiff_t>(network.num_domains());
+  const auto a = network.pipe_domain_a();
+  const auto b = network.pipe_domain_b();
   owner_start_.assign(1, 0);
   owner_pipes_.clear();
   for (int t = 0; t < threads; ++t) {
-    const auto begin = owner_pipes_.size();
-    const auto lo = static_cast<std::size_t>(
-        pipes_of_start_[static_cast<std::size_t>(ShareBegin(n, t, threads))]);
-    const auto hi = static_cast<std::size_t>(
-        pipes_of_start_[static_cast<std::size_t>(ShareBegin(n, t + 1, threads))]);
-    owner_pipes_.insert(owner_pipes_.end(), pipes_of_.begin() + static_cast<std::ptrdiff_t>(lo),
-                        pipes_of_.begin() + static_cast<std::ptrdiff_t>(hi));
-    const auto first = owner_pipes_.begin() + static_cast<std::ptrdiff_t>(begin);
-    std::sort(first, owner_pipes_.end());
-    owner_pipes_.erase(std::unique(first, owner_pipes_.end()), owner_pipes_.end());
+    const std::ptrdiff_t lo = ShareBegin(n, t, threads);
+    const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      if ((a[p] >= lo && a[p] < hi) || (b[p] >= lo && b[p] < hi)) {
+        owner_pipes_.push_back(static_cast<std::int32_t>(p));
+      }
+    }
     owner_start_.push_back(static_cast<std::int32_t>(owner_pipes_.size()));
   }
   owner_threads_ = threads;
@@ -202,7 +177,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   // limit is the lowest-index domain on ties as in one pass.
   const auto domains = static_cast<std::ptrdiff_t>(n);
   const int threads = domains >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
-  if (threads > 1 && owner_threads_ != threads) IndexPipesByShare(n, threads);
+  if (threads > 1 && owner_threads_ != threads) IndexPipesByShare(network, threads);
   const std::int32_t* __restrict owner_start = owner_start_.data();
   const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
   std::vector<CriticalTimeStep> share_limit(static_cast<std::size_t>(threads));

@@ -9,7 +9,9 @@
 #include <numbers>
 #include <string>
 
+#include "contact_pipe.h"
 #include "seep/core/geometry/disk_overlap.h"
+#include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
@@ -179,13 +181,8 @@ void DomainDetector::BuildGraph(const Packing& packing, const ContactList& conta
     // Lenses are needed for every overlapping pair, edge or not (rattlers overlap too).
     const double ri = r[ci[c]];
     const double rj = r[cj[c]];
-    if (!(gap[c] < 0.0)) {
-      half_lens_[c] = 0.0;
-    } else if (rj == 0.0) {
-      half_lens_[c] = 0.25 * LensArea(ri, ri, 2.0 * (ri + gap[c]));
-    } else {
-      half_lens_[c] = 0.5 * LensArea(ri, rj, ri + rj + gap[c]);
-    }
+    half_lens_[c] = rj == 0.0 && gap[c] < 0.0 ? 0.25 * LensArea(ri, ri, 2.0 * (ri + gap[c]))
+                                              : HalfPairLens(ri, rj, gap[c]);
     if (is_edge(c)) {
       ++degree_[static_cast<std::size_t>(ci[c])];
       ++degree_[static_cast<std::size_t>(cj[c])];
@@ -369,33 +366,17 @@ void DomainDetector::TraceFaces(const Packing& packing, const ContactList& conta
     if (slot_face[start] >= 0) continue;
     const std::int32_t face = static_cast<std::int32_t>(face_signed_area_.size());
     const std::size_t v0 = static_cast<std::size_t>(slot_origin[start]);
-    const double x0 = x[v0];
-    const double y0 = y[v0];
-    double twice_area = 0.0;
-    double cx = 0.0;
-    double cy = 0.0;
-    double sum_x = 0.0;
-    double sum_y = 0.0;
+    LoopPolygonSums polygon(x[v0], y[v0]);
     double sector = 0.0;
     double lens = 0.0;
-    std::size_t count = 0;
     std::int32_t cur = static_cast<std::int32_t>(start);
     do {
       const std::size_t s = static_cast<std::size_t>(cur);
       slot_face[s] = face;
       face_slots[written++] = cur;
-      ++count;
       const std::size_t v = static_cast<std::size_t>(slot_origin[s]);
       const std::size_t w = static_cast<std::size_t>(slot_target[s]);
-      // Shoelace and centroid relative to the first vertex, to keep precision far from origin.
-      const double ax = x[v] - x0, ay = y[v] - y0;
-      const double bx = x[w] - x0, by = y[w] - y0;
-      const double cross = ax * by - bx * ay;
-      twice_area += cross;
-      cx += (ax + bx) * cross;
-      cy += (ay + by) * cross;
-      sum_x += ax;
-      sum_y += ay;
+      polygon.AddEdge(x[v], y[v], x[w], y[w]);
       const std::size_t c = static_cast<std::size_t>(slot_contact[s]);
       lens += half_lens[c];
       // Next half-edge: at w, the neighbour immediately clockwise of v, i.e. the slot before the
@@ -412,17 +393,12 @@ void DomainDetector::TraceFaces(const Packing& packing, const ContactList& conta
     } while (cur != static_cast<std::int32_t>(start));
 
     face_offsets_.push_back(static_cast<std::int32_t>(written));
-    const double area = 0.5 * twice_area;
+    const double area = polygon.area();
     face_signed_area_.push_back(area);
     face_sector_area_.push_back(sector);
     face_half_lens_.push_back(lens);
-    if (twice_area != 0.0) {
-      face_centroid_x_.push_back(x0 + cx / (3.0 * twice_area));
-      face_centroid_y_.push_back(y0 + cy / (3.0 * twice_area));
-    } else {
-      face_centroid_x_.push_back(x0 + sum_x / static_cast<double>(count));
-      face_centroid_y_.push_back(y0 + sum_y / static_cast<double>(count));
-    }
+    face_centroid_x_.push_back(polygon.centroid_x());
+    face_centroid_y_.push_back(polygon.centroid_y());
     const std::int32_t component = component_[v0];
     face_component_.push_back(component);
     // The outer face of a component is its most negative cycle (first one on ties).
@@ -528,27 +504,8 @@ void DomainDetector::EmitNetwork(const Packing& packing, const ContactList& cont
     }
     const std::size_t i = static_cast<std::size_t>(contacts.i[c]);
     const std::size_t j = static_cast<std::size_t>(contacts.j[c]);
-    const double length = r[i] + r[j];
-    if (da >= 0 && db >= 0) {
-      net.pipe_domain_a.push_back(da);
-      net.pipe_domain_b.push_back(db);
-      net.pipe_contact.push_back(static_cast<std::int32_t>(c));
-      net.pipe_length.push_back(length);
-      continue;
-    }
-    const std::int32_t domain = da >= 0 ? da : db;
-    const std::int32_t outer = da >= 0 ? -db - 1 : -da - 1;
-    net.is_boundary[static_cast<std::size_t>(domain)] = 1;
-    const double dx = x[j] - x[i];
-    const double dy = y[j] - y[i];
-    const double dist = std::sqrt(dx * dx + dy * dy);
-    const double along = dist > 0.0 ? (r[i] + 0.5 * contacts.gap[c]) / dist : 0.0;
-    net.boundary_pipe_domain.push_back(domain);
-    net.boundary_pipe_contact.push_back(static_cast<std::int32_t>(c));
-    net.boundary_pipe_outer_face.push_back(outer);
-    net.boundary_pipe_length.push_back(length);
-    net.boundary_pipe_x.push_back(x[i] + along * dx);
-    net.boundary_pipe_y.push_back(y[i] + along * dy);
+    geometry_internal::AppendContactPipe(net, da, db, static_cast<std::int32_t>(c), i, j,
+                                         contacts.gap[c], x, y, r);
   }
 }
 

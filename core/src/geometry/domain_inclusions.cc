@@ -10,30 +10,18 @@
 #include <numbers>
 
 #include "seep/core/geometry/domain_detection.h"
+#include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
 
-// Even-odd crossing test of point (px, py) against the polygon through the loop's centres.
-bool LoopContains(const DomainNetwork& net, const Packing& packing, std::size_t domain, double px,
-                  double py) {
-  const std::int32_t begin = net.loop_offsets[domain];
-  const std::int32_t end = net.loop_offsets[domain + 1];
-  bool inside = false;
-  std::size_t prev =
-      static_cast<std::size_t>(net.loop_particles[static_cast<std::size_t>(end - 1)]);
-  for (std::int32_t k = begin; k < end; ++k) {
-    const std::size_t cur =
-        static_cast<std::size_t>(net.loop_particles[static_cast<std::size_t>(k)]);
-    const double xa = packing.x[cur], ya = packing.y[cur];
-    const double xb = packing.x[prev], yb = packing.y[prev];
-    if ((ya > py) != (yb > py)) {
-      const double x_cross = xa + (xb - xa) * (py - ya) / (yb - ya);
-      if (px < x_cross) inside = !inside;
-    }
-    prev = cur;
-  }
-  return inside;
+// Even-odd test of point (px, py) against the polygon through domain `domain`'s loop.
+bool DomainContains(const DomainNetwork& net, const Packing& packing, std::size_t domain, double px,
+                    double py) {
+  const auto begin = static_cast<std::size_t>(net.loop_offsets[domain]);
+  const auto end = static_cast<std::size_t>(net.loop_offsets[domain + 1]);
+  return LoopContains(std::span(net.loop_particles).subspan(begin, end - begin), packing.x.data(),
+                      packing.y.data(), px, py);
 }
 
 // Point location over the domains of `net`, using buffers owned by the detector.
@@ -87,7 +75,7 @@ class DomainLocator {
     const std::size_t first = static_cast<std::size_t>(
         net_.loop_particles[static_cast<std::size_t>(net_.loop_offsets[d])]);
     if (component_[first] == skip_component) return;
-    if (!LoopContains(net_, packing_, d, px, py)) return;
+    if (!DomainContains(net_, packing_, d, px, py)) return;
     if (*best < 0 ||
         net_.apparent_volume[d] < net_.apparent_volume[static_cast<std::size_t>(*best)]) {
       *best = static_cast<std::int32_t>(d);

@@ -8,7 +8,9 @@
 #include <numbers>
 #include <string>
 
+#include "contact_pipe.h"
 #include "seep/core/geometry/disk_overlap.h"
+#include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
@@ -21,11 +23,6 @@ std::size_t Bytes(const std::vector<T>& v) {
 }
 
 std::size_t Index(std::int32_t k) { return static_cast<std::size_t>(k); }
-
-// Half the lens of an overlapping pair, as DomainDetector::BuildGraph computes it.
-double HalfLens(double ri, double rj, double gap) {
-  return gap < 0.0 ? 0.5 * LensArea(ri, rj, ri + rj + gap) : 0.0;
-}
 
 }  // namespace
 
@@ -82,14 +79,13 @@ void LocalDomainDetector::BuildFrom(const ContactList& contacts, const DomainNet
   // Contact c becomes edge c. Some slack, so that the first changes do not move every array.
   const std::size_t slack_edges = m + m / 8 + 64;
   for (auto* v : {&edge_gap_, &edge_half_lens_}) v->reserve(slack_edges);
-  for (auto* v : {&edge_used_, &edge_in_graph_}) v->reserve(slack_edges);
+  edge_in_graph_.reserve(slack_edges);
   for (auto* v : {&he_origin_, &he_next_incident_, &he_ccw_, &he_cw_, &he_face_}) {
     v->reserve(2 * slack_edges);
   }
   he_angle_.reserve(2 * slack_edges);
   edge_gap_.assign(contacts.gap.begin(), contacts.gap.end());
   edge_half_lens_.resize(m);
-  edge_used_.assign(m, 1);
   edge_in_graph_.assign(m, 0);
   free_edges_.clear();
   he_origin_.resize(2 * m);
@@ -113,7 +109,7 @@ void LocalDomainDetector::BuildFrom(const ContactList& contacts, const DomainNet
     first_incident_[Index(i)] = lower;
     he_next_incident_[2 * c + 1] = first_incident_[Index(j)];
     first_incident_[Index(j)] = lower + 1;
-    edge_half_lens_[c] = HalfLens(r[i], r[j], edge_gap_[c]);
+    edge_half_lens_[c] = HalfPairLens(r[i], r[j], edge_gap_[c]);
     if (alive_[Index(i)] && alive_[Index(j)] && edge_gap_[c] <= options_.max_gap) {
       edge_in_graph_[c] = 1;
       ++degree_[Index(i)];
@@ -227,7 +223,6 @@ std::int32_t LocalDomainDetector::NewEdge(std::int32_t i, std::int32_t j, double
     e = static_cast<std::int32_t>(edge_gap_.size());
     edge_gap_.push_back(0.0);
     edge_half_lens_.push_back(0.0);
-    edge_used_.push_back(0);
     edge_in_graph_.push_back(0);
     for (int side = 0; side < 2; ++side) {
       he_origin_.push_back(-1);
@@ -241,8 +236,7 @@ std::int32_t LocalDomainDetector::NewEdge(std::int32_t i, std::int32_t j, double
   const std::size_t k = Index(e);
   const std::int32_t lower = 2 * e;
   edge_gap_[k] = gap;
-  edge_half_lens_[k] = HalfLens(packing_.radius[Index(i)], packing_.radius[Index(j)], gap);
-  edge_used_[k] = 1;
+  edge_half_lens_[k] = HalfPairLens(packing_.radius[Index(i)], packing_.radius[Index(j)], gap);
   edge_in_graph_[k] = 0;
   he_origin_[Index(lower)] = i;
   he_origin_[Index(lower + 1)] = j;
@@ -270,7 +264,6 @@ void LocalDomainDetector::FreeEdge(std::int32_t e) {
     --num_graph_edges_;
     edge_in_graph_[Index(e)] = 0;
   }
-  edge_used_[Index(e)] = 0;
   free_edges_.push_back(e);
   --num_contacts_;
 }
@@ -353,30 +346,15 @@ void LocalDomainDetector::TraceFace(std::int32_t seed, std::int32_t f) {
   const double* y = packing_.y.data();
   const double* r = packing_.radius.data();
   const std::size_t v0 = Index(Origin(start));
-  const double x0 = x[v0];
-  const double y0 = y[v0];
-  double twice_area = 0.0;
-  double cx = 0.0;
-  double cy = 0.0;
-  double sum_x = 0.0;
-  double sum_y = 0.0;
+  LoopPolygonSums polygon(x[v0], y[v0]);
   double sector = 0.0;
   double lens = 0.0;
-  std::size_t count = 0;
   std::int32_t cur = start;
   do {
     he_face_[Index(cur)] = f;
-    ++count;
     const std::size_t v = Index(Origin(cur));
     const std::size_t w = Index(Target(cur));
-    const double ax = x[v] - x0, ay = y[v] - y0;
-    const double bx = x[w] - x0, by = y[w] - y0;
-    const double cross = ax * by - bx * ay;
-    twice_area += cross;
-    cx += (ax + bx) * cross;
-    cy += (ay + by) * cross;
-    sum_x += ax;
-    sum_y += ay;
+    polygon.AddEdge(x[v], y[v], x[w], y[w]);
     lens += edge_half_lens_[Index(cur >> 1)];
     const std::int32_t twin = Twin(cur);
     const bool wraps = twin == rotation_first_[w];
@@ -388,17 +366,12 @@ void LocalDomainDetector::TraceFace(std::int32_t seed, std::int32_t f) {
   } while (cur != start);
 
   const std::size_t k = Index(f);
-  const double area = 0.5 * twice_area;
+  const double area = polygon.area();
   face_start_[k] = start;
   face_area_[k] = area;
   face_pore_[k] = area - sector + lens;
-  if (twice_area != 0.0) {
-    face_centroid_x_[k] = x0 + cx / (3.0 * twice_area);
-    face_centroid_y_[k] = y0 + cy / (3.0 * twice_area);
-  } else {
-    face_centroid_x_[k] = x0 + sum_x / static_cast<double>(count);
-    face_centroid_y_[k] = y0 + sum_y / static_cast<double>(count);
-  }
+  face_centroid_x_[k] = polygon.centroid_x();
+  face_centroid_y_[k] = polygon.centroid_y();
   face_component_[k] = component_[v0];
 }
 
@@ -447,7 +420,7 @@ void LocalDomainDetector::CorrectForHeldParticles(std::int32_t f) {
   const double* r = packing_.radius.data();
   double& pore = face_pore_[Index(f)];
   for (const std::int32_t p : scratch_) pore -= std::numbers::pi * r[p] * r[p];
-  std::vector<std::int32_t>& lenses = held_lenses_;
+  std::vector<std::int32_t>& lenses = id_scratch_;
   lenses.clear();
   for (const std::int32_t p : scratch_) {
     for (std::int32_t h = first_incident_[Index(p)]; h >= 0; h = he_next_incident_[Index(h)]) {
@@ -482,10 +455,8 @@ Status LocalDomainDetector::RemoveContact(std::int32_t i, std::int32_t j) {
   }
   if (edge_in_graph_[Index(e)]) {
     bool done = false;
-    SEEP_RETURN_IF_ERROR(RemoveEdgeLocally(e, &done));
-    if (done) return Status::Ok();
-    if (edge_used_[Index(e)]) FreeEdge(e);
-    return FullUpdate();
+    SEEP_RETURN_IF_ERROR(RemoveEdgeLocally(e, &done));  // frees e either way
+    return done ? Status::Ok() : FullUpdate();
   }
   // Not an edge. A pruned particle's contacts decide its tree and its lens corrections.
   const bool pruned_end = !alive_[Index(i)] || !alive_[Index(j)];
@@ -506,15 +477,15 @@ Status LocalDomainDetector::RemoveEdgeLocally(std::int32_t e, bool* done) {
   const std::int32_t t = h + 1;
   const std::int32_t fh = he_face_[Index(h)];
   const std::int32_t ft = he_face_[Index(t)];
-  if (fh == ft || num_nonpositive_domains_ > 0) return Status::Ok();
-  if (HoldsIsland(fh) || HoldsIsland(ft)) return Status::Ok();
   // After h comes, at its target, the neighbour clockwise of t: still in the merged face.
   const std::int32_t seed = he_cw_[Index(t)];
-  const std::int32_t keep = IsOuter(ft) ? ft : fh;
-  const std::int32_t drop = keep == fh ? ft : fh;
   const std::int32_t i = Origin(h);
   const std::int32_t j = Origin(t);
   FreeEdge(e);
+  if (fh == ft || num_nonpositive_domains_ > 0) return Status::Ok();
+  if (HoldsIsland(fh) || HoldsIsland(ft)) return Status::Ok();
+  const std::int32_t keep = IsOuter(ft) ? ft : fh;
+  const std::int32_t drop = keep == fh ? ft : fh;
   FreeFace(drop);
   --num_domains_;
   --num_faces_;
@@ -711,7 +682,7 @@ void LocalDomainDetector::Emit(DomainNetwork* network) const {
   const double* r = packing_.radius.data();
 
   // Contact ids: ranks in the sorted contact list.
-  std::vector<std::int32_t> contact_id(edge_used_.size(), -1);
+  std::vector<std::int32_t> contact_id(edge_gap_.size(), -1);
   std::vector<std::int32_t> sorted_edges;
   sorted_edges.reserve(num_contacts_);
   std::vector<std::int32_t> scratch;
@@ -799,39 +770,20 @@ void LocalDomainDetector::Emit(DomainNetwork* network) const {
     const std::int32_t db = domain_or_outer(fb);
     const std::size_t i = Index(Origin(2 * e));
     const std::size_t j = Index(Origin(2 * e + 1));
-    const double length = r[i] + r[j];
-    if (da >= 0 && db >= 0) {
-      net.pipe_domain_a.push_back(da);
-      net.pipe_domain_b.push_back(db);
-      net.pipe_contact.push_back(static_cast<std::int32_t>(c));
-      net.pipe_length.push_back(length);
-      continue;
-    }
-    const std::int32_t domain = da >= 0 ? da : db;
-    const std::int32_t outer = da >= 0 ? -db - 1 : -da - 1;
-    net.is_boundary[Index(domain)] = 1;
-    const double dx = x[j] - x[i];
-    const double dy = y[j] - y[i];
-    const double dist = std::sqrt(dx * dx + dy * dy);
-    const double along = dist > 0.0 ? (r[i] + 0.5 * edge_gap_[Index(e)]) / dist : 0.0;
-    net.boundary_pipe_domain.push_back(domain);
-    net.boundary_pipe_contact.push_back(static_cast<std::int32_t>(c));
-    net.boundary_pipe_outer_face.push_back(outer);
-    net.boundary_pipe_length.push_back(length);
-    net.boundary_pipe_x.push_back(x[i] + along * dx);
-    net.boundary_pipe_y.push_back(y[i] + along * dy);
+    geometry_internal::AppendContactPipe(net, da, db, static_cast<std::int32_t>(c), i, j,
+                                         edge_gap_[Index(e)], x, y, r);
   }
 }
 
 std::size_t LocalDomainDetector::MemoryBytes() const {
-  return packing_.MemoryBytes() + Bytes(edge_gap_) + Bytes(edge_half_lens_) + Bytes(edge_used_) +
+  return packing_.MemoryBytes() + Bytes(edge_gap_) + Bytes(edge_half_lens_) +
          Bytes(edge_in_graph_) + Bytes(free_edges_) + Bytes(he_origin_) + Bytes(he_next_incident_) +
          Bytes(he_ccw_) + Bytes(he_cw_) + Bytes(he_angle_) + Bytes(he_face_) +
          Bytes(first_incident_) + Bytes(rotation_first_) + Bytes(degree_) + Bytes(alive_) +
          Bytes(component_) + Bytes(face_kind_) + Bytes(face_start_) + Bytes(face_area_) +
          Bytes(face_pore_) + Bytes(face_centroid_x_) + Bytes(face_centroid_y_) +
          Bytes(face_first_held_) + Bytes(face_islands_) + Bytes(face_component_) +
-         Bytes(host_face_) + Bytes(next_held_) + Bytes(pruned_now_) + Bytes(held_lenses_) +
+         Bytes(host_face_) + Bytes(next_held_) + Bytes(pruned_now_) + Bytes(id_scratch_) +
          Bytes(particle_mark_) + Bytes(tree_nodes_) + Bytes(tree_hosts_) + Bytes(tree_degree_) +
          Bytes(new_edges_) + Bytes(new_faces_) + Bytes(old_face_edges_) + Bytes(free_faces_) +
          Bytes(component_outer_face_) + Bytes(component_host_face_) + Bytes(scratch_);

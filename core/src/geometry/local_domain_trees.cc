@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "seep/core/geometry/local_domain_detection.h"
+#include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
@@ -71,39 +72,27 @@ std::int32_t LocalDomainDetector::HostOfWedge(std::int32_t live, std::int32_t ha
 bool LocalDomainDetector::FaceContains(std::int32_t f, double px, double py) const {
   const double* x = packing_.x.data();
   const double* y = packing_.y.data();
-  const std::int32_t start = face_start_[Index(f)];
+  std::vector<std::int32_t> loop;  // a free tree's location only: rare, not worth a buffer
   double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-  std::int32_t last = -1;
+  const std::int32_t start = face_start_[Index(f)];
   std::int32_t h = start;
   do {
-    last = Origin(h);
-    x0 = std::min(x0, x[last]);
-    y0 = std::min(y0, y[last]);
-    x1 = std::max(x1, x[last]);
-    y1 = std::max(y1, y[last]);
+    const std::int32_t v = Origin(h);
+    loop.push_back(v);
+    x0 = std::min(x0, x[v]);
+    y0 = std::min(y0, y[v]);
+    x1 = std::max(x1, x[v]);
+    y1 = std::max(y1, y[v]);
     h = FaceNext(h);
   } while (h != start);
   if (px < x0 || py < y0 || px > x1 || py > y1) return false;
-  bool inside = false;
-  std::size_t prev = Index(last);
-  do {
-    const std::size_t cur = Index(Origin(h));
-    const double xa = x[cur], ya = y[cur];
-    const double xb = x[prev], yb = y[prev];
-    if ((ya > py) != (yb > py)) {
-      const double x_cross = xa + (xb - xa) * (py - ya) / (yb - ya);
-      if (px < x_cross) inside = !inside;
-    }
-    prev = cur;
-    h = FaceNext(h);
-  } while (h != start);
-  return inside;
+  return LoopContains(loop, x, y, px, py);
 }
 
 bool LocalDomainDetector::HostTrees(std::span<const std::int32_t> candidates, bool outside_ok) {
   const std::size_t count = tree_nodes_.size();
   tree_hosts_.assign(count, kUnset);
-  std::vector<std::int32_t>& members = held_lenses_;
+  std::vector<std::int32_t>& members = id_scratch_;
   for (std::size_t k = 0; k < count; ++k) {
     if (tree_hosts_[k] != kUnset) continue;
     if (alive_[Index(tree_nodes_[k])]) {
@@ -166,7 +155,7 @@ void LocalDomainDetector::CollectHeld(std::int32_t f) {
 
 void LocalDomainDetector::UnholdMarked() {
   // One pass over each host's list drops its marked particles.
-  std::vector<std::int32_t>& hosts = held_lenses_;
+  std::vector<std::int32_t>& hosts = id_scratch_;
   hosts.clear();
   for (const std::int32_t v : tree_nodes_) {
     if (alive_[Index(v)] || host_face_[Index(v)] == kUnset) continue;

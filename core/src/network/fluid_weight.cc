@@ -5,36 +5,23 @@
 #include <algorithm>
 
 #include "seep/core/coupling/contact_point.h"
+#include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
 
-// Centroid of the polygon through the loop's centres, relative to its first vertex (precision
-// far from the origin), or the vertex mean of a degenerate loop; as the domain detection does.
+// Centroid of the polygon through the loop's centres, as the domain detection sums it.
 void LoopCentroid(const ParticleView& p, std::span<const std::int32_t> loop, double* cx,
                   double* cy) {
   const auto first = static_cast<std::size_t>(loop[0]);
-  const double x0 = p.x[first], y0 = p.y[first];
-  double twice_area = 0.0, sx = 0.0, sy = 0.0, mean_x = 0.0, mean_y = 0.0;
+  LoopPolygonSums polygon(p.x[first], p.y[first]);
   for (std::size_t k = 0; k < loop.size(); ++k) {
     const auto i = static_cast<std::size_t>(loop[k]);
     const auto j = static_cast<std::size_t>(loop[k + 1 < loop.size() ? k + 1 : 0]);
-    const double ax = p.x[i] - x0, ay = p.y[i] - y0;
-    const double bx = p.x[j] - x0, by = p.y[j] - y0;
-    const double cross = ax * by - bx * ay;
-    twice_area += cross;
-    sx += (ax + bx) * cross;
-    sy += (ay + by) * cross;
-    mean_x += ax;
-    mean_y += ay;
+    polygon.AddEdge(p.x[i], p.y[i], p.x[j], p.y[j]);
   }
-  if (twice_area != 0.0) {
-    *cx = x0 + sx / (3.0 * twice_area);
-    *cy = y0 + sy / (3.0 * twice_area);
-  } else {
-    *cx = x0 + mean_x / static_cast<double>(loop.size());
-    *cy = y0 + mean_y / static_cast<double>(loop.size());
-  }
+  *cx = polygon.centroid_x();
+  *cy = polygon.centroid_y();
 }
 
 // The point of drained wall `node`'s wall nearest the centroid (cx, cy) of `pore`, with the wall

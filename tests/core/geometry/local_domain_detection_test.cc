@@ -51,6 +51,7 @@ void ExpectSameNetwork(const DomainNetwork& full, const DomainNetwork& local) {
   EXPECT_EQ(full.euler.components, local.euler.components);
   EXPECT_EQ(full.num_pruned_particles, local.num_pruned_particles);
   EXPECT_EQ(full.num_nonpositive_domains, local.num_nonpositive_domains);
+  EXPECT_TRUE(full == local);  // and every field not named above (the walls)
 }
 
 struct Contact {

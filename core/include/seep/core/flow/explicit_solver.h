@@ -85,8 +85,7 @@ class ExplicitSolver {
   Status Prepare(const FlowNetwork& network);
   // Capacities, rates, the critical step and the sources from the current values (checking the
   // values they read); allocates only when the network grew.
-  void IndexPipesByDomain(const FlowNetwork& network);
-  void IndexPipesByShare(std::size_t num_domains, int threads);
+  void IndexPipesByShare(const FlowNetwork& network, int threads);
   Status RefreshCoefficients(const FlowNetwork& network);
 
   ExplicitSolverOptions options_;
@@ -96,11 +95,8 @@ class ExplicitSolver {
   std::vector<double> rate_;      // K_f / V_s (0 for fixed), 1/(Pa s) per m^2.
   std::vector<double> capacity_;  // V_s / K_f (0 for fixed), m^2/Pa.
   std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
-  // Per domain (CSR, for the topology of topology_stamp_): its pipes in ascending order.
-  std::vector<std::int32_t> pipes_of_start_;
-  std::vector<std::int32_t> pipes_of_;
   // Per thread share of the domains (contiguous blocks, CSR): the pipes touching it, ascending;
-  // built for owner_threads_ threads (0: not built for this topology).
+  // built for owner_threads_ threads on the topology of topology_stamp_ (0: not built).
   int owner_threads_ = 0;
   std::vector<std::int32_t> owner_start_;
   std::vector<std::int32_t> owner_pipes_;

@@ -44,6 +44,13 @@ inline double MinorSegmentUnitSmall(double t) {
 // inputs. The line of centres splits the lens into two halves of equal area.
 double LensArea(double r1, double r2, double distance);
 
+// Half the lens of two disks of radii r1, r2 at surface gap `gap` (negative = overlap): the part
+// on either side of the line of centres, which domain detection gives to each face beside the
+// contact. 0 without overlap (and for a NaN gap).
+inline double HalfPairLens(double r1, double r2, double gap) {
+  return gap < 0.0 ? 0.5 * LensArea(r1, r2, r1 + r2 + gap) : 0.0;
+}
+
 // The lens of two disks of radii r1, r2 (inv_r1 = 1/r1, inv_r2 = 1/r2) whose centres are d apart,
 // by LensArea's formulas, without a branch, for what a DEM contact loop meets: a shallow overlap
 // (chord half-length below R/16 on both disks, both segments minor) or no overlap at all (the

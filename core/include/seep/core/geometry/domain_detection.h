@@ -82,6 +82,7 @@ struct EulerCounts {
   std::int64_t edges = 0;       // contacts between them
   std::int64_t cycles = 0;      // traced faces: domains + one outer walk per component
   std::int64_t components = 0;  // connected components (counted independently of the faces)
+  bool operator==(const EulerCounts&) const = default;
 };
 
 struct DomainNetwork {
@@ -135,6 +136,9 @@ struct DomainNetwork {
   std::size_t num_outer_faces() const { return outer_area.size(); }
   void Clear();
   std::size_t MemoryBytes() const;
+  // Field by field, doubles compared exactly: what "the same network" means for a local
+  // re-detection against a full one.
+  bool operator==(const DomainNetwork&) const = default;
 };
 
 // Rebuilds domains and pipes from contacts. Keep one DomainDetector and call Detect() again after

@@ -93,6 +93,8 @@ struct DomainWalls {
   }
   void Clear();
   std::size_t MemoryBytes() const;
+  // Field by field, doubles compared exactly.
+  bool operator==(const DomainWalls&) const = default;
 };
 
 // Builds the augmented graph: `graph_packing` = the particles followed by the wall vertices

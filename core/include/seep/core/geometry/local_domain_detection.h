@@ -125,8 +125,8 @@ class LocalDomainDetector {
   // off its host's list (UnholdMarked).
   void CollectHeld(std::int32_t f);
 
-  void FinishLocal(bool* done);  // counts a local update as done
-  Status RemoveEdgeLocally(std::int32_t e, bool* done);
+  void FinishLocal(bool* done);                          // counts a local update as done
+  Status RemoveEdgeLocally(std::int32_t e, bool* done);  // frees edge e, done or not
   Status AddEdgeLocally(std::int32_t e, bool* done);
 
   // ---- pruned trees (local_domain_trees.cc) ----
@@ -163,8 +163,7 @@ class LocalDomainDetector {
 
   // Edges (one per contact, graph edge or not) and their half-edges.
   std::vector<double> edge_gap_;
-  std::vector<double> edge_half_lens_;   // half the overlap lens (0 without overlap)
-  std::vector<std::uint8_t> edge_used_;  // 0 on the free list
+  std::vector<double> edge_half_lens_;  // half the overlap lens (0 without overlap)
   std::vector<std::uint8_t> edge_in_graph_;
   std::vector<std::int32_t> free_edges_;
   std::vector<std::int32_t> he_origin_;
@@ -205,9 +204,10 @@ class LocalDomainDetector {
   std::size_t num_domains_ = 0;
   std::int64_t num_graph_edges_ = 0;
   std::int64_t num_faces_ = 0;
-  std::vector<std::int32_t> scratch_;        // half-edges of a face being traced
-  std::vector<std::int32_t> pruned_now_;     // particles a broken contact prunes
-  std::vector<std::int32_t> held_lenses_;    // lens edges of a face's held particles
+  std::vector<std::int32_t> scratch_;     // half-edges of a face being traced
+  std::vector<std::int32_t> pruned_now_;  // particles a broken contact prunes
+  // A second scratch list of ids: a face's lens edges, a tree's members, the hosts re-listed.
+  std::vector<std::int32_t> id_scratch_;
   std::vector<std::int32_t> particle_mark_;  // per particle: index in tree_nodes_, -1 otherwise
   std::vector<std::int32_t> tree_nodes_;
   std::vector<std::int32_t> tree_hosts_;
