@@ -5,6 +5,7 @@
 #include "seep/core/coupling/domain_volume_update.h"
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <string>
 
@@ -207,8 +208,11 @@ void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::i
 
 DomainVolumeUpdater::SectorSums DomainVolumeUpdater::Sectors(const ParticleView& particles,
                                                              const DomainNetwork& network) const {
-  if (std::equal(particles.radius.begin(), particles.radius.end(), bind_radius_.begin(),
-                 bind_radius_.end())) {
+  // Bitwise (memcmp streams at memory speed; an element loop was a serial 10 us a step on the
+  // bench bed): for radii, which are positive, equal bits and equal values are the same thing.
+  if (particles.radius.size() == bind_radius_.size() &&
+      (bind_radius_.empty() || std::memcmp(particles.radius.data(), bind_radius_.data(),
+                                           bind_radius_.size() * sizeof(double)) == 0)) {
     return SectorSums{bind_loop_sector_, bind_outer_sector_, true};
   }
   SectorsAtBind(network.loop_offsets, network.loop_particles, loop_theta0_, particles.radius.data(),
@@ -279,8 +283,10 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
     }
     // Pass 2: the flagged few (a large turn since Bind, a deep overlap; every edge of a wall
     // vertex) with atan2 and LensArea. On the threads too (after pass 1's barrier): the scan
-    // over all edges was serial work at every flow update.
-#pragma omp for schedule(static)
+    // over all edges was serial work at every flow update. Dealt in small chunks: the flagged
+    // edges cluster (the wall vertices' edges come with the first domains along a wall), and
+    // halves would leave them all to one thread.
+#pragma omp for schedule(static, 256)
     for (std::ptrdiff_t e = 0; e < edges; ++e) {
       if (slow[e] == 0.0) continue;
       const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];

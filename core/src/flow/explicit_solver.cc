@@ -62,6 +62,34 @@ struct Budget {
   double max_pressure = -std::numeric_limits<double>::infinity();
 };
 
+// One domain's part of the budget, after its update: a fixed-pressure node's inflow is what
+// leaves the network into it; another domain stored `stored` = V_s dP / K_f. Every budget pass
+// adds through here, so their sums are the same additions in the same (domain) order.
+inline void AddToBudget(Budget& out, double capacity, double inflow, double stored, double dv,
+                        double new_p) {
+  if (capacity == 0.0) {
+    out.boundary_inflow -= inflow;
+    out.boundary_magnitude += std::abs(inflow);
+  } else {
+    out.stored_change += stored;
+    out.stored_magnitude += std::abs(stored);
+    out.stored_level += capacity * std::abs(new_p);
+    out.volume_change += dv;
+    out.volume_magnitude += std::abs(dv);
+  }
+  out.min_pressure = std::min(out.min_pressure, new_p);
+  out.max_pressure = std::max(out.max_pressure, new_p);
+}
+
+// The update of domain i (not fixed): its new pressure, and the fluid it stored.
+inline double UpdateDomain(std::size_t i, const double* gain, const double* capacity, double dv,
+                           double inv_dt, const double* inflow, double* pressure) {
+  const double old_p = pressure[i];
+  const double new_p = old_p + gain[i] * (inflow[i] - dv * inv_dt);
+  pressure[i] = new_p;
+  return capacity[i] * (new_p - old_p);
+}
+
 // The update with the fluid budget of the step, in domain order (deterministic sums).
 // node_outflow (may be null): per node, dt x what left the network into it is added.
 Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* capacity,
@@ -69,25 +97,43 @@ Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* 
                                double* pressure, double* node_outflow) {
   Budget out;
   for (std::size_t i = 0; i < n; ++i) {
-    const double old_p = pressure[i];
-    if (capacity[i] == 0.0) {  // fixed-pressure node: inflow[i] is what leaves the network into it
-      out.boundary_inflow -= inflow[i];
-      out.boundary_magnitude += std::abs(inflow[i]);
+    const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
+    double stored = 0.0;
+    if (capacity[i] == 0.0) {
+      if (node_outflow != nullptr) node_outflow[i] += inflow[i] / inv_dt;
+    } else {
+      stored = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure);
+    }
+    AddToBudget(out, capacity[i], inflow[i], stored, dv, pressure[i]);
+    inflow[i] = 0.0;
+  }
+  return out;
+}
+
+// UpdateDomainsWithBudget split for threads. The update of domains [lo, hi) (per domain: any
+// share may run on any thread), keeping each domain's stored change, and its inflow for the sums:
+void UpdateShareKeepingBudgetTerms(std::size_t lo, std::size_t hi, const double* gain,
+                                   const double* capacity, const double* volume_change,
+                                   double inv_dt, const double* inflow, double* pressure,
+                                   double* stored, double* node_outflow) {
+  for (std::size_t i = lo; i < hi; ++i) {
+    if (capacity[i] == 0.0) {
       if (node_outflow != nullptr) node_outflow[i] += inflow[i] / inv_dt;
     } else {
       const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
-      const double new_p = old_p + gain[i] * (inflow[i] - dv * inv_dt);
-      pressure[i] = new_p;
-      const double stored = capacity[i] * (new_p - old_p);
-      out.stored_change += stored;
-      out.stored_magnitude += std::abs(stored);
-      out.stored_level += capacity[i] * std::abs(new_p);
-      out.volume_change += dv;
-      out.volume_magnitude += std::abs(dv);
+      stored[i] = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure);
     }
+  }
+}
+
+// ...then the sums in domain order (so the same bits), and the accumulator reset.
+Budget SumBudgetTerms(std::size_t n, const double* capacity, const double* volume_change,
+                      double* inflow, const double* pressure, const double* stored) {
+  Budget out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
+    AddToBudget(out, capacity[i], inflow[i], capacity[i] == 0.0 ? 0.0 : stored[i], dv, pressure[i]);
     inflow[i] = 0.0;
-    out.min_pressure = std::min(out.min_pressure, pressure[i]);
-    out.max_pressure = std::max(out.max_pressure, pressure[i]);
   }
   return out;
 }
@@ -182,7 +228,16 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
   std::vector<CriticalTimeStep> share_limit(static_cast<std::size_t>(threads));
   bool any_non_positive = false;
-#pragma omp parallel num_threads(threads) if (threads > 1) reduction(|| : any_non_positive)
+  // The accumulator starts at zero (the sources are set below), and the step's gains are
+  // computed by the first Step (gain_dt_ = -1).
+  inflow_.resize(n);
+  gain_.resize(n);
+  gain_dt_ = -1.0;
+  double* __restrict inflow = inflow_.data();
+  const double* __restrict q_src = network.source_rate().data();
+  double sources = 0.0;  // a count, exact in any order
+#pragma omp parallel num_threads(threads) if (threads > 1) \
+    reduction(|| : any_non_positive) reduction(+ : sources)
   {
     // sum C per domain, pipe by pipe in pipe order. One thread passes over all pipes; on several,
     // each share of the domains is passed over the pipes touching it (IndexPipesByShare), adding
@@ -233,6 +288,14 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
         }
       }
       share_limit[static_cast<std::size_t>(t)] = least;
+      // The sources: most scenes have none, and a branch-free count says so without the scan.
+      std::fill(inflow + lo, inflow + hi, 0.0);
+      double share_sources = 0.0;
+#pragma omp simd reduction(+ : share_sources)
+      for (std::ptrdiff_t d = lo; d < hi; ++d) {
+        share_sources += ((role[d] == DomainRole::kSource) & (q_src[d] != 0.0)) ? 1.0 : 0.0;
+      }
+      sources += share_sources;
     }
   }
   if (any_non_positive) {
@@ -246,15 +309,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   for (const CriticalTimeStep& least : share_limit) {
     if (least.dt_crit < limit_.dt_crit) limit_ = least;
   }
-  // The sources: most scenes have none, and a branch-free count says so without the scan.
-  const double* q_src = network.source_rate().data();
-  inflow_.assign(n, 0.0);
   sources_.clear();
-  double sources = 0.0;
-#pragma omp simd reduction(+ : sources)
-  for (std::ptrdiff_t d = 0; d < domains; ++d) {
-    sources += ((role[d] == DomainRole::kSource) & (q_src[d] != 0.0)) ? 1.0 : 0.0;
-  }
   for (std::size_t d = 0; sources > 0.0 && d < n; ++d) {
     if (role[d] == DomainRole::kSource && q_src[d] != 0.0) {
       sources_.push_back(static_cast<std::int32_t>(d));
@@ -269,14 +324,71 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
     for (const std::int32_t s : sources_) base_inflow_[s] += q_src[s];
     inflow_ = base_inflow_;
   }
-  gain_.assign(n, 0.0);
-  gain_dt_ = -1.0;
   return Status::Ok();
 }
 
 Result<CriticalTimeStep> ExplicitSolver::CriticalStep(const FlowNetwork& network) {
   SEEP_RETURN_IF_ERROR(Prepare(network));
   return limit_;
+}
+
+void ExplicitSolver::SweepOnShares(FlowNetwork& network, int threads, bool new_gain,
+                                   const double* volume_change, double inv_dt,
+                                   double* node_outflow) {
+  const auto n = static_cast<std::ptrdiff_t>(network.num_domains());
+  if (owner_threads_ != threads) IndexPipesByShare(network, threads);
+  if (options_.diagnostics) stored_.resize(static_cast<std::size_t>(n));
+  const std::int32_t* __restrict a = network.pipe_domain_a().data();
+  const std::int32_t* __restrict b = network.pipe_domain_b().data();
+  const double* __restrict c = network.pipe_conductance().data();
+  const std::int32_t* __restrict owner_start = owner_start_.data();
+  const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
+  const double* __restrict rate = rate_.data();
+  const double* __restrict capacity = capacity_.data();
+  double* __restrict gain = gain_.data();
+  double* __restrict inflow = inflow_.data();
+  double* __restrict stored = stored_.data();
+  double* pressure = network.mutable_pressure().data();
+  const double step = gain_dt_;
+  const bool budget = options_.diagnostics;
+#pragma omp parallel num_threads(threads)
+  {
+    // Each share passes over the pipes touching it in pipe order and adds to its own domains
+    // only: every domain gets the terms of AccumulatePipeFlows in the same order. A team smaller
+    // than asked for takes the shares in turn (as RefreshCoefficients).
+    const int team = omp_get_num_threads();
+    for (int t = omp_get_thread_num(); t < threads; t += team) {
+      const std::ptrdiff_t lo = ShareBegin(n, t, threads);
+      const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
+      if (new_gain) {
+        for (std::ptrdiff_t d = lo; d < hi; ++d) gain[d] = step * rate[d];
+      }
+      for (std::int32_t k = owner_start[t]; k < owner_start[t + 1]; ++k) {
+        const std::int32_t p = owner_pipes[k];
+        const std::int32_t i = a[p];
+        const std::int32_t j = b[p];
+        const double q = c[p] * (pressure[j] - pressure[i]);
+        if (i >= lo && i < hi) inflow[i] += q;
+        if (j >= lo && j < hi) inflow[j] -= q;
+      }
+    }
+    // Every share has read the pressures it needs before any changes.
+#pragma omp barrier
+    for (int t = omp_get_thread_num(); t < threads; t += team) {
+      const std::ptrdiff_t lo = ShareBegin(n, t, threads);
+      const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
+      if (budget) {
+        UpdateShareKeepingBudgetTerms(static_cast<std::size_t>(lo), static_cast<std::size_t>(hi),
+                                      gain, capacity, volume_change, inv_dt, inflow, pressure,
+                                      stored, node_outflow);
+      } else if (volume_change == nullptr) {
+        UpdateDomains(static_cast<std::size_t>(hi - lo), gain + lo, inflow + lo, pressure + lo);
+      } else {
+        UpdateDomainsWithVolumeChange(static_cast<std::size_t>(hi - lo), gain + lo,
+                                      volume_change + lo, inv_dt, inflow + lo, pressure + lo);
+      }
+    }
+  }
 }
 
 Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
@@ -324,27 +436,43 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   }
   report.dt = step;
 
-  if (step != gain_dt_) {
-    for (std::size_t d = 0; d < n; ++d) gain_[d] = step * rate_[d];
-    gain_dt_ = step;
-  }
-
+  const bool new_gain = step != gain_dt_;
+  gain_dt_ = step;
   double* pressure = network.mutable_pressure().data();
-  AccumulatePipeFlows(network.num_pipes(), network.pipe_domain_a().data(),
-                      network.pipe_domain_b().data(), network.pipe_conductance().data(), pressure,
-                      inflow_.data());
+  const double inv_dt = 1.0 / step;
+  const double* dv = volume_change.empty() ? nullptr : volume_change.data();
+  double* node_outflow = tally != nullptr ? tally->node_outflow_m2.data() : nullptr;
+  const int threads =
+      static_cast<std::ptrdiff_t>(n) >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
+  Budget b;
+  if (threads > 1) {
+    SweepOnShares(network, threads, new_gain, dv, inv_dt, node_outflow);
+    if (options_.diagnostics) {
+      b = SumBudgetTerms(n, capacity_.data(), dv, inflow_.data(), pressure, stored_.data());
+    }
+  } else {
+    if (new_gain) {
+      for (std::size_t d = 0; d < n; ++d) gain_[d] = step * rate_[d];
+    }
+    AccumulatePipeFlows(network.num_pipes(), network.pipe_domain_a().data(),
+                        network.pipe_domain_b().data(), network.pipe_conductance().data(), pressure,
+                        inflow_.data());
+    if (options_.diagnostics) {
+      b = UpdateDomainsWithBudget(n, gain_.data(), capacity_.data(), dv, inv_dt, inflow_.data(),
+                                  pressure, node_outflow);
+    } else if (dv == nullptr) {
+      UpdateDomains(n, gain_.data(), inflow_.data(), pressure);
+    } else {
+      UpdateDomainsWithVolumeChange(n, gain_.data(), dv, inv_dt, inflow_.data(), pressure);
+    }
+  }
   double source_inflow = 0.0;
   double source_magnitude = 0.0;
   for (const std::int32_t s : sources_) {
     source_inflow += network.source_rate()[s];
     source_magnitude += std::abs(network.source_rate()[s]);
   }
-  const double inv_dt = 1.0 / step;
   if (options_.diagnostics) {
-    const Budget b = UpdateDomainsWithBudget(
-        n, gain_.data(), capacity_.data(), volume_change.empty() ? nullptr : volume_change.data(),
-        inv_dt, inflow_.data(), pressure,
-        tally != nullptr ? tally->node_outflow_m2.data() : nullptr);
     if (tally != nullptr) {
       tally->source_m2 += step * source_inflow;
       tally->compressed_m2 += b.stored_change;
@@ -363,11 +491,6 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
     report.mass_balance_error = scale > 0.0 ? std::abs(b.stored_change - expected) / scale : 0.0;
     report.min_pressure = b.min_pressure;
     report.max_pressure = b.max_pressure;
-  } else if (volume_change.empty()) {
-    UpdateDomains(n, gain_.data(), inflow_.data(), pressure);
-  } else {
-    UpdateDomainsWithVolumeChange(n, gain_.data(), volume_change.data(), inv_dt, inflow_.data(),
-                                  pressure);
   }
   // Re-arm the accumulator with the sources (and the head inflow) of the next step.
   if (!base_inflow_.empty()) {

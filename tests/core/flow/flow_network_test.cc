@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <initializer_list>
 #include <limits>
 #include <random>
@@ -422,34 +423,83 @@ TEST(FlowNetwork, ExplicitStepsAreBitIdenticalOnAnyThreadCount) {
     d.pressure[k] = 1e5 * factor(rng);
   }
   d.role[0] = DomainRole::kFixedPressure;
+  d.role[5000] = DomainRole::kFixedPressure;  // in the second share of two
+  d.role[777] = DomainRole::kSource;
+  d.source_rate[777] = 1e-9;
   ASSERT_GT(d.pore_volume.size(), 8192u);
+  std::vector<double> dv(d.pore_volume.size());
+  for (std::size_t k = 0; k < dv.size(); ++k) dv[k] = 1e-12 * std::sin(static_cast<double>(k));
+  // Everything a step gives: the pressures, every budget figure of its report, the tally.
+  struct Outcome {
+    std::vector<double> pressure, budget;
+    FluidTally tally;
+  };
   const int before = omp_get_max_threads();
-  const auto run = [&](std::initializer_list<int> thread_counts) {
+  const auto run = [&](std::initializer_list<int> thread_counts, bool diagnostics) {
     FlowNetwork net = testing::MakeOrDie(d);
     ExplicitSolverOptions options;
     options.bulk_modulus = 2e9;
+    options.diagnostics = diagnostics;
     auto solver = ExplicitSolver::Create(options);
     EXPECT_TRUE(solver.ok());
+    Outcome out;
+    out.tally.Reset(net.num_domains());
     for (const int threads : thread_counts) {
       omp_set_num_threads(threads);
       const auto limit = solver->CriticalStep(net);
       EXPECT_TRUE(limit.ok());
-      for (int k = 0; k < 5; ++k) EXPECT_TRUE(solver->Step(net, 0.5 * limit->dt_crit).ok());
+      for (int k = 0; k < 5; ++k) {
+        // Rigid steps and steps with a volume change, both.
+        const auto r =
+            solver->Step(net, 0.5 * limit->dt_crit, k % 2 == 0 ? std::span<const double>() : dv,
+                         diagnostics ? &out.tally : nullptr);
+        EXPECT_TRUE(r.ok());
+        if (!r.ok()) continue;
+        out.budget.insert(out.budget.end(),
+                          {r->boundary_inflow, r->source_inflow, r->volume_change, r->stored_change,
+                           r->mass_balance_error, r->min_pressure, r->max_pressure});
+      }
       // A coefficient edit: the sums are refreshed on the next step.
       for (double& x : net.mutable_pipe_conductance()) x *= 1.01;
     }
-    return std::vector<double>(net.pressure().begin(), net.pressure().end());
+    out.pressure.assign(net.pressure().begin(), net.pressure().end());
+    return out;
   };
-  const std::vector<double> reference = run({1, 1, 1, 1});
-  EXPECT_EQ(run({2, 2, 2, 2}), reference);
-  EXPECT_EQ(run({3, 3, 3, 3}), reference);
-  EXPECT_EQ(run({1, 2, 3, 2}), reference);
-  // Asked for 3 threads, given a team of 1 (no active parallel level): one thread takes every
-  // share in turn.
-  const int levels = omp_get_max_active_levels();
-  omp_set_max_active_levels(0);
-  EXPECT_EQ(run({3, 3, 3, 3}), reference);
-  omp_set_max_active_levels(levels);
+  const auto expect_same = [](const Outcome& got, const Outcome& want, const char* what) {
+    SCOPED_TRACE(what);
+    // Bits, not tolerances: NaN budgets (diagnostics off) compare as their bytes.
+    const auto bits = [](const std::vector<double>& v) {
+      std::vector<std::uint64_t> out(v.size());
+      std::memcpy(out.data(), v.data(), v.size() * sizeof(double));
+      return out;
+    };
+    EXPECT_EQ(got.pressure, want.pressure);
+    EXPECT_EQ(bits(got.budget), bits(want.budget));
+    EXPECT_EQ(got.tally.node_outflow_m2, want.tally.node_outflow_m2);
+    EXPECT_EQ(std::vector<double>({got.tally.source_m2, got.tally.compressed_m2,
+                                   got.tally.pore_growth_m2, got.tally.boundary_gross_m2}),
+              std::vector<double>({want.tally.source_m2, want.tally.compressed_m2,
+                                   want.tally.pore_growth_m2, want.tally.boundary_gross_m2}));
+  };
+  for (const bool diagnostics : {true, false}) {
+    SCOPED_TRACE(diagnostics ? "diagnostics on" : "diagnostics off");
+    const Outcome reference = run({1, 1, 1, 1}, diagnostics);
+    // The fluid moved, through the fixed domains and from the source.
+    ASSERT_NE(reference.pressure, d.pressure);
+    if (diagnostics) {
+      EXPECT_NE(reference.tally.node_outflow_m2[5000], 0.0);
+      EXPECT_GT(reference.tally.source_m2, 0.0);
+    }
+    expect_same(run({2, 2, 2, 2}, diagnostics), reference, "2 threads");
+    expect_same(run({3, 3, 3, 3}, diagnostics), reference, "3 threads");
+    expect_same(run({1, 2, 3, 2}, diagnostics), reference, "changing counts");
+    // Asked for 3 threads, given a team of 1 (no active parallel level): one thread takes every
+    // share in turn.
+    const int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    expect_same(run({3, 3, 3, 3}, diagnostics), reference, "a team of 1");
+    omp_set_max_active_levels(levels);
+  }
   omp_set_num_threads(before);
 }
 

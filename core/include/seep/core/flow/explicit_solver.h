@@ -16,6 +16,12 @@
 // off and no dV that moves 16 B per pipe + 40 B per domain (about 36-40 B per pipe on a 2D
 // packing). Number domains and pipes for locality (e.g. row-major): random numbering is 4-8x
 // slower at 1e6 pipes (performance.md §1.2).
+//
+// Threads (from kMinParallelItems domains): each thread's contiguous share of the domains passes
+// over the pipes touching it in pipe order and adds to its own domains only, then updates them;
+// every domain gets the same terms in the same order as on one thread, so the pressures are the
+// same bits on any thread count. The budget's sums (diagnostics) stay one pass in domain order,
+// the only serial part: a parallel sum would round differently.
 #pragma once
 
 #include <cstdint>
@@ -87,6 +93,11 @@ class ExplicitSolver {
   // values they read); allocates only when the network grew.
   void IndexPipesByShare(const FlowNetwork& network, int threads);
   Status RefreshCoefficients(const FlowNetwork& network);
+  // The pipe pass and the update of Step on `threads` shares of the domains, bit-identical to
+  // the one-thread pass; with diagnostics the stored changes are left in stored_ and the inflows
+  // in inflow_ for the budget's ordered sums (SumBudgetTerms), which also reset the accumulator.
+  void SweepOnShares(FlowNetwork& network, int threads, bool new_gain, const double* volume_change,
+                     double inv_dt, double* node_outflow);
 
   ExplicitSolverOptions options_;
   std::uint64_t topology_stamp_ = 0;
@@ -103,6 +114,7 @@ class ExplicitSolver {
   std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
+  std::vector<double> stored_;  // per domain: V_s dP / K_f of the step (SweepOnShares' budget)
   // With fluid weight: the head inflow plus Q_src per domain, what inflow_ restarts from; empty
   // without (inflow_ restarts from the sources).
   std::vector<double> base_inflow_;
