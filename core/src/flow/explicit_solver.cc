@@ -82,12 +82,15 @@ inline void AddToBudget(Budget& out, double capacity, double inflow, double stor
 }
 
 // The update of domain i (not fixed): its new pressure, and the fluid it stored.
-inline double UpdateDomain(std::size_t i, const double* gain, const double* capacity, double dv,
-                           double inv_dt, const double* inflow, double* pressure) {
+struct DomainUpdate {
+  double new_p, stored;
+};
+inline DomainUpdate UpdateDomain(std::size_t i, const double* gain, const double* capacity,
+                                 double dv, double inv_dt, const double* inflow, double* pressure) {
   const double old_p = pressure[i];
   const double new_p = old_p + gain[i] * (inflow[i] - dv * inv_dt);
   pressure[i] = new_p;
-  return capacity[i] * (new_p - old_p);
+  return {new_p, capacity[i] * (new_p - old_p)};
 }
 
 // The update with the fluid budget of the step, in domain order (deterministic sums).
@@ -98,13 +101,13 @@ Budget UpdateDomainsWithBudget(std::size_t n, const double* gain, const double* 
   Budget out;
   for (std::size_t i = 0; i < n; ++i) {
     const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
-    double stored = 0.0;
+    DomainUpdate u{pressure[i], 0.0};
     if (capacity[i] == 0.0) {
       if (node_outflow != nullptr) node_outflow[i] += inflow[i] / inv_dt;
     } else {
-      stored = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure);
+      u = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure);
     }
-    AddToBudget(out, capacity[i], inflow[i], stored, dv, pressure[i]);
+    AddToBudget(out, capacity[i], inflow[i], u.stored, dv, u.new_p);
     inflow[i] = 0.0;
   }
   return out;
@@ -121,21 +124,25 @@ void UpdateShareKeepingBudgetTerms(std::size_t lo, std::size_t hi, const double*
       if (node_outflow != nullptr) node_outflow[i] += inflow[i] / inv_dt;
     } else {
       const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
-      stored[i] = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure);
+      stored[i] = UpdateDomain(i, gain, capacity, dv, inv_dt, inflow, pressure).stored;
     }
   }
 }
 
-// ...then the sums in domain order (so the same bits), and the accumulator reset.
-Budget SumBudgetTerms(std::size_t n, const double* capacity, const double* volume_change,
-                      double* inflow, const double* pressure, const double* stored) {
-  Budget out;
-  for (std::size_t i = 0; i < n; ++i) {
+// ...then the sums of domains [lo, hi), continuing `out` (so the shares summed in turn make
+// the one-pass sums, the same bits), and the accumulator reset.
+void SumBudgetTerms(std::size_t lo, std::size_t hi, const double* capacity,
+                    const double* volume_change, double* inflow, const double* pressure,
+                    const double* stored, Budget& out) {
+  // Summed in a local (registers: `out` may alias the arrays), the same additions.
+  Budget sums = out;
+  for (std::size_t i = lo; i < hi; ++i) {
     const double dv = volume_change != nullptr ? volume_change[i] : 0.0;
-    AddToBudget(out, capacity[i], inflow[i], capacity[i] == 0.0 ? 0.0 : stored[i], dv, pressure[i]);
+    AddToBudget(sums, capacity[i], inflow[i], capacity[i] == 0.0 ? 0.0 : stored[i], dv,
+                pressure[i]);
     inflow[i] = 0.0;
   }
-  return out;
+  out = sums;
 }
 
 }  // namespace
@@ -180,6 +187,85 @@ namespace {
 
 // Thread t's share of n items: a contiguous block, the same for every pass that uses it.
 std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t / threads; }
+
+// What SweepOnShares reads and writes (the solver's arrays for the network).
+struct ShareSweep {
+  std::ptrdiff_t domains = 0;
+  int threads = 1;
+  const std::int32_t* a = nullptr;  // pipe ends
+  const std::int32_t* b = nullptr;
+  const double* c = nullptr;                  // conductances
+  const std::int32_t* owner_start = nullptr;  // IndexPipesByShare's lists for `threads`
+  const std::int32_t* owner_pipes = nullptr;
+  const double* rate = nullptr;
+  const double* capacity = nullptr;
+  const double* volume_change = nullptr;  // or null
+  double* gain = nullptr;
+  double* inflow = nullptr;
+  double* stored = nullptr;  // scratch, one per domain, with a budget
+  double* pressure = nullptr;
+  double* node_outflow = nullptr;  // or null
+  double step = 0.0;
+  double inv_dt = 0.0;
+  bool new_gain = false;  // gain = step x rate first
+};
+
+// The pipe pass and the update of Step on `threads` shares of the domains, bit-identical to one
+// thread's: each share passes over the pipes touching it in pipe order and adds to its own
+// domains only, so every domain gets the terms of AccumulatePipeFlows in the same order. With a
+// budget, each share's sums continue the previous share's in share order (an ordered loop): the
+// one-pass sums, read by the thread that wrote the share (a serial pass over what another core
+// had just written cost more than the whole one-thread update).
+void SweepOnShares(const ShareSweep& s, Budget* budget) {
+  const std::ptrdiff_t n = s.domains;
+  const int threads = s.threads;
+#pragma omp parallel num_threads(threads)
+  {
+    // A team smaller than asked for takes the shares in turn (as RefreshCoefficients).
+    const int team = omp_get_num_threads();
+    for (int t = omp_get_thread_num(); t < threads; t += team) {
+      const std::ptrdiff_t lo = ShareBegin(n, t, threads);
+      const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
+      if (s.new_gain) {
+        for (std::ptrdiff_t d = lo; d < hi; ++d) s.gain[d] = s.step * s.rate[d];
+      }
+      double* __restrict inflow = s.inflow;
+      for (std::int32_t k = s.owner_start[t]; k < s.owner_start[t + 1]; ++k) {
+        const std::int32_t p = s.owner_pipes[k];
+        const std::int32_t i = s.a[p];
+        const std::int32_t j = s.b[p];
+        const double q = s.c[p] * (s.pressure[j] - s.pressure[i]);
+        if (i >= lo && i < hi) inflow[i] += q;
+        if (j >= lo && j < hi) inflow[j] -= q;
+      }
+    }
+    // Every share has read the pressures it needs before any changes.
+#pragma omp barrier
+    if (budget != nullptr) {
+#pragma omp for ordered schedule(static, 1)
+      for (int t = 0; t < threads; ++t) {
+        const auto lo = static_cast<std::size_t>(ShareBegin(n, t, threads));
+        const auto hi = static_cast<std::size_t>(ShareBegin(n, t + 1, threads));
+        UpdateShareKeepingBudgetTerms(lo, hi, s.gain, s.capacity, s.volume_change, s.inv_dt,
+                                      s.inflow, s.pressure, s.stored, s.node_outflow);
+#pragma omp ordered
+        SumBudgetTerms(lo, hi, s.capacity, s.volume_change, s.inflow, s.pressure, s.stored,
+                       *budget);
+      }
+    } else {
+      for (int t = omp_get_thread_num(); t < threads; t += team) {
+        const std::ptrdiff_t lo = ShareBegin(n, t, threads);
+        const auto count = static_cast<std::size_t>(ShareBegin(n, t + 1, threads) - lo);
+        if (s.volume_change == nullptr) {
+          UpdateDomains(count, s.gain + lo, s.inflow + lo, s.pressure + lo);
+        } else {
+          UpdateDomainsWithVolumeChange(count, s.gain + lo, s.volume_change + lo, s.inv_dt,
+                                        s.inflow + lo, s.pressure + lo);
+        }
+      }
+    }
+  }
+}
 
 }  // namespace
 
@@ -332,65 +418,6 @@ Result<CriticalTimeStep> ExplicitSolver::CriticalStep(const FlowNetwork& network
   return limit_;
 }
 
-void ExplicitSolver::SweepOnShares(FlowNetwork& network, int threads, bool new_gain,
-                                   const double* volume_change, double inv_dt,
-                                   double* node_outflow) {
-  const auto n = static_cast<std::ptrdiff_t>(network.num_domains());
-  if (owner_threads_ != threads) IndexPipesByShare(network, threads);
-  if (options_.diagnostics) stored_.resize(static_cast<std::size_t>(n));
-  const std::int32_t* __restrict a = network.pipe_domain_a().data();
-  const std::int32_t* __restrict b = network.pipe_domain_b().data();
-  const double* __restrict c = network.pipe_conductance().data();
-  const std::int32_t* __restrict owner_start = owner_start_.data();
-  const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
-  const double* __restrict rate = rate_.data();
-  const double* __restrict capacity = capacity_.data();
-  double* __restrict gain = gain_.data();
-  double* __restrict inflow = inflow_.data();
-  double* __restrict stored = stored_.data();
-  double* pressure = network.mutable_pressure().data();
-  const double step = gain_dt_;
-  const bool budget = options_.diagnostics;
-#pragma omp parallel num_threads(threads)
-  {
-    // Each share passes over the pipes touching it in pipe order and adds to its own domains
-    // only: every domain gets the terms of AccumulatePipeFlows in the same order. A team smaller
-    // than asked for takes the shares in turn (as RefreshCoefficients).
-    const int team = omp_get_num_threads();
-    for (int t = omp_get_thread_num(); t < threads; t += team) {
-      const std::ptrdiff_t lo = ShareBegin(n, t, threads);
-      const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
-      if (new_gain) {
-        for (std::ptrdiff_t d = lo; d < hi; ++d) gain[d] = step * rate[d];
-      }
-      for (std::int32_t k = owner_start[t]; k < owner_start[t + 1]; ++k) {
-        const std::int32_t p = owner_pipes[k];
-        const std::int32_t i = a[p];
-        const std::int32_t j = b[p];
-        const double q = c[p] * (pressure[j] - pressure[i]);
-        if (i >= lo && i < hi) inflow[i] += q;
-        if (j >= lo && j < hi) inflow[j] -= q;
-      }
-    }
-    // Every share has read the pressures it needs before any changes.
-#pragma omp barrier
-    for (int t = omp_get_thread_num(); t < threads; t += team) {
-      const std::ptrdiff_t lo = ShareBegin(n, t, threads);
-      const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
-      if (budget) {
-        UpdateShareKeepingBudgetTerms(static_cast<std::size_t>(lo), static_cast<std::size_t>(hi),
-                                      gain, capacity, volume_change, inv_dt, inflow, pressure,
-                                      stored, node_outflow);
-      } else if (volume_change == nullptr) {
-        UpdateDomains(static_cast<std::size_t>(hi - lo), gain + lo, inflow + lo, pressure + lo);
-      } else {
-        UpdateDomainsWithVolumeChange(static_cast<std::size_t>(hi - lo), gain + lo,
-                                      volume_change + lo, inv_dt, inflow + lo, pressure + lo);
-      }
-    }
-  }
-}
-
 Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
                                             std::span<const double> volume_change,
                                             FluidTally* tally) {
@@ -446,10 +473,28 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
       static_cast<std::ptrdiff_t>(n) >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
   Budget b;
   if (threads > 1) {
-    SweepOnShares(network, threads, new_gain, dv, inv_dt, node_outflow);
-    if (options_.diagnostics) {
-      b = SumBudgetTerms(n, capacity_.data(), dv, inflow_.data(), pressure, stored_.data());
-    }
+    if (owner_threads_ != threads) IndexPipesByShare(network, threads);
+    if (options_.diagnostics) stored_.resize(n);
+    ShareSweep sweep;
+    sweep.domains = static_cast<std::ptrdiff_t>(n);
+    sweep.threads = threads;
+    sweep.a = network.pipe_domain_a().data();
+    sweep.b = network.pipe_domain_b().data();
+    sweep.c = network.pipe_conductance().data();
+    sweep.owner_start = owner_start_.data();
+    sweep.owner_pipes = owner_pipes_.data();
+    sweep.rate = rate_.data();
+    sweep.capacity = capacity_.data();
+    sweep.volume_change = dv;
+    sweep.gain = gain_.data();
+    sweep.inflow = inflow_.data();
+    sweep.stored = stored_.data();
+    sweep.pressure = pressure;
+    sweep.node_outflow = node_outflow;
+    sweep.step = step;
+    sweep.inv_dt = inv_dt;
+    sweep.new_gain = new_gain;
+    SweepOnShares(sweep, options_.diagnostics ? &b : nullptr);
   } else {
     if (new_gain) {
       for (std::size_t d = 0; d < n; ++d) gain_[d] = step * rate_[d];

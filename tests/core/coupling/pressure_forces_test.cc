@@ -3,6 +3,7 @@
 #include "seep/core/coupling/pressure_forces.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -430,6 +431,45 @@ TEST(PressureForces, BoundKernelMatchesAddPressureForcesBitForBit) {
     EXPECT_LT(worst, 1e-12 * 2e5 * r_max);
     EXPECT_GT(largest, 1e3 * r_max) << "random pressures push the particles";
   }
+}
+
+// Threads: each takes a share of the particles and the contacts touching it; the forces must be
+// the one-thread bits on any thread count, in a team smaller than asked for (one thread taking
+// every share), and with the last ids written to the wall-vertex arrays across the shares.
+TEST(PressureForces, KernelGivesTheSameBitsOnAnyThreadCount) {
+  const Detected d = Detect(coupling_test::Hex(80, 80, 1.0), 1e-2);
+  const std::size_t n = d.packing.size();
+  PressureForceKernel kernel;
+  ASSERT_TRUE(kernel.Bind(d.domains, n).ok());
+  ASSERT_GT(kernel.num_contacts(), 8192u) << "small enough for the one-thread path";
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> pressure(0.0, 2e5);
+  std::vector<double> slot(kernel.num_slots());
+  for (double& p : slot) p = pressure(rng);
+  const std::size_t vertices = 40;  // ids n - 40 .. n - 1 as wall vertices
+  struct Output {
+    std::vector<double> fx, fy, vx, vy;
+    bool operator==(const Output&) const = default;
+  };
+  const int before = omp_get_max_threads();
+  const auto apply = [&](int threads) {
+    omp_set_num_threads(threads);
+    Output out{std::vector<double>(n, 1.0), std::vector<double>(n, -1.0),
+               std::vector<double>(vertices, 0.5), std::vector<double>(vertices, -0.5)};
+    kernel.Apply(ViewOf(d.packing), slot.data(),
+                 {out.fx.data(), out.fy.data(), n - vertices, out.vx.data(), out.vy.data()});
+    return out;
+  };
+  const Output one = apply(1);
+  EXPECT_NE(one.vx, std::vector<double>(vertices, 0.5)) << "the vertices are pushed";
+  EXPECT_TRUE(apply(2) == one);
+  EXPECT_TRUE(apply(3) == one);
+  EXPECT_TRUE(apply(2) == one);  // the lists rebuilt for 2 again
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  EXPECT_TRUE(apply(3) == one);
+  omp_set_max_active_levels(levels);
+  omp_set_num_threads(before);
 }
 
 }  // namespace

@@ -20,8 +20,8 @@
 // Threads (from kMinParallelItems domains): each thread's contiguous share of the domains passes
 // over the pipes touching it in pipe order and adds to its own domains only, then updates them;
 // every domain gets the same terms in the same order as on one thread, so the pressures are the
-// same bits on any thread count. The budget's sums (diagnostics) stay one pass in domain order,
-// the only serial part: a parallel sum would round differently.
+// same bits on any thread count. The budget's sums (diagnostics) keep the one-pass order: each
+// share continues the previous share's sums, in turn (a parallel sum would round differently).
 #pragma once
 
 #include <cstdint>
@@ -93,11 +93,6 @@ class ExplicitSolver {
   // values they read); allocates only when the network grew.
   void IndexPipesByShare(const FlowNetwork& network, int threads);
   Status RefreshCoefficients(const FlowNetwork& network);
-  // The pipe pass and the update of Step on `threads` shares of the domains, bit-identical to
-  // the one-thread pass; with diagnostics the stored changes are left in stored_ and the inflows
-  // in inflow_ for the budget's ordered sums (SumBudgetTerms), which also reset the accumulator.
-  void SweepOnShares(FlowNetwork& network, int threads, bool new_gain, const double* volume_change,
-                     double inv_dt, double* node_outflow);
 
   ExplicitSolverOptions options_;
   std::uint64_t topology_stamp_ = 0;
@@ -114,7 +109,7 @@ class ExplicitSolver {
   std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
-  std::vector<double> stored_;  // per domain: V_s dP / K_f of the step (SweepOnShares' budget)
+  std::vector<double> stored_;  // per domain: V_s dP / K_f of the step (the threads' budget)
   // With fluid weight: the head inflow plus Q_src per domain, what inflow_ restarts from; empty
   // without (inflow_ restarts from the sources).
   std::vector<double> base_inflow_;
