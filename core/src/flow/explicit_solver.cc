@@ -188,6 +188,26 @@ namespace {
 // Thread t's share of n items: a contiguous block, the same for every pass that uses it.
 std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t / threads; }
 
+// Capacities V_s / K_f and rates K_f / V_s (as 1 / capacity) of domains [lo, hi), StorageVolumeOf
+// term by term, 0 for fixed domains and non-positive volumes: branch-free so that the divisions,
+// which bounded the refresh, vectorise. GCC if-converts the selects only when it may assume that
+// no floating-point trap is watched (none is: the values are the IEEE ones either way).
+[[gnu::optimize("no-trapping-math")]] void FillCapacitiesAndRates(
+    std::ptrdiff_t lo, std::ptrdiff_t hi, const double* __restrict volume,
+    const DomainRole* __restrict role, double factor, double floor, double bulk,
+    double* __restrict capacity, double* __restrict rate) {
+#pragma omp simd
+  for (std::ptrdiff_t d = lo; d < hi; ++d) {
+    const double scaled = factor * volume[d];
+    const double vs = scaled < floor ? floor : scaled;  // std::max, on values
+    const bool live = (role[d] != DomainRole::kFixedPressure) & (vs > 0.0);
+    const double cap = vs / bulk;
+    const double inverse = 1.0 / cap;
+    capacity[d] = live ? cap : 0.0;
+    rate[d] = live ? inverse : 0.0;
+  }
+}
+
 // What SweepOnShares reads and writes (the solver's arrays for the network).
 struct ShareSweep {
   std::ptrdiff_t domains = 0;
@@ -350,22 +370,24 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
           if (j >= lo && j < hi) sum_c[j] += c[p];
         }
       }
+      FillCapacitiesAndRates(lo, hi, volume, role, factor, floor, bulk, capacity, rate);
+      // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties). A domain
+      // whose V_s is at least (1 + 2^-50) x least x K_f sum C cannot round below the least, so
+      // a multiplication rules out nearly every domain before its division.
       CriticalTimeStep least;
       for (std::ptrdiff_t d = lo; d < hi; ++d) {
-        const double sum = sum_c[d];
-        capacity[d] = 0.0;
-        rate[d] = 0.0;
         if (role[d] == DomainRole::kFixedPressure) continue;
-        // StorageVolumeOf, term by term.
+        const double sum = sum_c[d];
         const double vs = std::max(factor * volume[d], floor);
         if (!(vs > 0.0)) {
           any_non_positive = true;
           continue;
         }
-        capacity[d] = vs / bulk;
-        rate[d] = 1.0 / capacity[d];
-        // dt_i = V_s / (K_f sum C), as ComputeCriticalTimeStep (lowest index on ties).
-        const double dt = sum > 0.0 ? vs / (bulk * sum) : std::numeric_limits<double>::infinity();
+        if (!(sum > 0.0)) continue;  // dt_i = infinity
+        const double den = bulk * sum;
+        const double bound = least.dt_crit * den * (1.0 + 0x1p-50);
+        if (bound >= std::numeric_limits<double>::min() && vs >= bound) continue;
+        const double dt = vs / den;
         if (dt < least.dt_crit) {
           least.dt_crit = dt;
           least.limiting_domain = static_cast<std::int32_t>(d);

@@ -381,6 +381,27 @@ TEST(FlowNetwork, AutoLinearSolverIsSimplicialBelowTheSwitchAndSupernodalFromIt)
   EXPECT_EQ(auto_large.pressure, supernodal.pressure);
 }
 
+// The explicit solver's limit on `net` is `reference` to the bit and the domain, on each of
+// `thread_counts` (K_f = 2e9, default storage).
+void ExpectSolverLimitIs(const FlowNetwork& net, const CriticalTimeStep& reference,
+                         std::initializer_list<int> thread_counts) {
+  const int before = omp_get_max_threads();
+  for (const int threads : thread_counts) {
+    omp_set_num_threads(threads);
+    ExplicitSolverOptions options;
+    options.bulk_modulus = 2e9;
+    auto solver = ExplicitSolver::Create(options);
+    ASSERT_TRUE(solver.ok());
+    const auto limit = solver->CriticalStep(net);
+    ASSERT_TRUE(limit.ok()) << limit.status().ToString();
+    EXPECT_EQ(limit->dt_crit, reference.dt_crit) << threads << " thread(s)";
+    EXPECT_EQ(limit->limiting_domain, reference.limiting_domain) << threads << " thread(s)";
+    EXPECT_EQ(limit->limiting_storage_volume, reference.limiting_storage_volume);
+    EXPECT_EQ(limit->limiting_conductance_sum, reference.limiting_conductance_sum);
+  }
+  omp_set_num_threads(before);
+}
+
 // The explicit solver's limit, found per domain on the threads (over 8192 domains: the parallel
 // path), is the reference's: the least V_s/(K_f sum C) at the lowest domain index among ties. A
 // uniform lattice ties every interior domain, so a combine that took any but the first share's
@@ -393,19 +414,58 @@ TEST(FlowNetwork, ExplicitLimitOnThreadsIsTheReferencesLowestIndexOnTies) {
   ASSERT_GT(net.num_domains(), 8192u);
   const auto reference = ComputeCriticalTimeStep(net, 2e9, StorageModel{});
   ASSERT_TRUE(reference.ok());
-  const int before = omp_get_max_threads();
-  for (const int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    ExplicitSolverOptions options;
-    options.bulk_modulus = 2e9;
-    auto solver = ExplicitSolver::Create(options);
-    ASSERT_TRUE(solver.ok());
-    const auto limit = solver->CriticalStep(net);
-    ASSERT_TRUE(limit.ok()) << limit.status().ToString();
-    EXPECT_EQ(limit->dt_crit, reference->dt_crit) << threads << " thread(s)";
-    EXPECT_EQ(limit->limiting_domain, reference->limiting_domain) << threads << " thread(s)";
+  ExpectSolverLimitIs(net, *reference, {1, 2});
+}
+
+// The limit search divides only where a multiplication cannot rule a domain out: on random
+// networks (and with a second domain 1 ulp above the least, and one exactly tied after it) the
+// limit is still the reference's division by division, to the bit and the domain.
+TEST(FlowNetwork, ExplicitLimitSkipsNoCandidateOnRandomNetworks) {
+  const LatticeParams lp;
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    FlowNetworkData d = testing::MakeSquareLatticeData(100, 100, lp);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> factor(0.2, 5.0);
+    for (double& c : d.pipe_conductance) c *= factor(rng);
+    for (std::size_t k = 0; k < d.pore_volume.size(); ++k) {
+      d.pore_volume[k] *= factor(rng);
+      d.apparent_volume[k] = std::max(d.apparent_volume[k], d.pore_volume[k]);
+    }
+    d.role[0] = DomainRole::kFixedPressure;
+    FlowNetwork net = testing::MakeOrDie(d);
+    const auto first = ComputeCriticalTimeStep(net, 2e9, StorageModel{});
+    ASSERT_TRUE(first.ok());
+    // Domains after the least with a limit 1 ulp above it and exactly equal to it: neither may
+    // win (the lowest index wins ties); then, further on, one 1 ulp below it, which must.
+    const auto k = static_cast<std::size_t>(first->limiting_domain);
+    ASSERT_LT(k + 13, net.num_domains());
+    for (const std::size_t other : {k + 7, k + 11, k + 13}) {
+      const double target = other == k + 7    ? std::nextafter(first->dt_crit, 1.0)
+                            : other == k + 11 ? first->dt_crit
+                                              : std::nextafter(first->dt_crit, 0.0);
+      // V_s = dt K_f sum C for `other`, nudged until the division gives the target exactly.
+      double sum = 0.0;
+      for (std::size_t p = 0; p < net.num_pipes(); ++p) {
+        if (static_cast<std::size_t>(net.pipe_domain_a()[p]) == other ||
+            static_cast<std::size_t>(net.pipe_domain_b()[p]) == other) {
+          sum += net.pipe_conductance()[p];
+        }
+      }
+      double v = target * (2e9 * sum);
+      for (int i = 0; i < 8 && v / (2e9 * sum) != target; ++i) {
+        v = v / (2e9 * sum) < target ? std::nextafter(v, 1.0) : std::nextafter(v, 0.0);
+      }
+      ASSERT_EQ(v / (2e9 * sum), target);
+      d.pore_volume[other] = v;
+      d.apparent_volume[other] = std::max(d.apparent_volume[other], v);
+    }
+    net = testing::MakeOrDie(d);
+    const auto reference = ComputeCriticalTimeStep(net, 2e9, StorageModel{});
+    ASSERT_TRUE(reference.ok());
+    ASSERT_EQ(reference->limiting_domain, static_cast<std::int32_t>(k + 13));
+    ExpectSolverLimitIs(net, *reference, {1, 2, 3});
   }
-  omp_set_num_threads(before);
 }
 
 // The explicit solver's per-domain sum of conductances is added pipe by pipe in pipe order; on
