@@ -149,9 +149,10 @@ bool CoefficientsPass(const FlowNetworkData& d) {
   const std::size_t np = d.pipe_conductance.size();
   if (d.apparent_volume.size() != nd || d.pore_volume.size() != nd || d.source_rate.size() != nd ||
       d.role.size() != nd || d.pipe_length.size() != np || d.pipe_aperture.size() != np ||
-      !d.pipe_head_offset.empty()) {
+      (!d.pipe_head_offset.empty() && d.pipe_head_offset.size() != np)) {
     return false;
   }
+  const bool heads = !d.pipe_head_offset.empty();
   const auto domains = static_cast<std::ptrdiff_t>(nd);
   const auto pipes = static_cast<std::ptrdiff_t>(np);
   const double* apparent = d.apparent_volume.data();
@@ -161,9 +162,12 @@ bool CoefficientsPass(const FlowNetworkData& d) {
   const double* length = d.pipe_length.data();
   const double* aperture = d.pipe_aperture.data();
   const double* conductance = d.pipe_conductance.data();
-  // Counts of whole numbers far below 2^53: exact in any order.
+  const double* head = d.pipe_head_offset.data();
+  // Counts of whole numbers far below 2^53: exact in any order (and complete at the region's end,
+  // a barrier).
   double bad_domains = 0.0;
   double bad_pipes = 0.0;
+  double bad_heads = 0.0;
 #pragma omp parallel if (std::max(domains, pipes) >= internal::kMinParallelItems)
   {
 #pragma omp for simd schedule(static) nowait reduction(+ : bad_domains)
@@ -175,16 +179,21 @@ bool CoefficientsPass(const FlowNetworkData& d) {
           FiniteBranchFree(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
       bad_domains += (volumes_ok & source_ok) ? 0.0 : 1.0;
     }
-    // Its barrier ends both loops.
-#pragma omp for simd schedule(static) reduction(+ : bad_pipes)
+#pragma omp for simd schedule(static) nowait reduction(+ : bad_pipes)
     for (std::ptrdiff_t p = 0; p < pipes; ++p) {
       const bool ok = FiniteBranchFree(length[p]) & (length[p] > 0.0) &
                       FiniteBranchFree(aperture[p]) & (aperture[p] >= 0.0) &
                       FiniteBranchFree(conductance[p]) & (conductance[p] > 0.0);
       bad_pipes += ok ? 0.0 : 1.0;
     }
+    if (heads) {  // the fluid's weight: the same for the whole team
+#pragma omp for simd schedule(static) nowait reduction(+ : bad_heads)
+      for (std::ptrdiff_t p = 0; p < pipes; ++p) {
+        bad_heads += FiniteBranchFree(head[p]) ? 0.0 : 1.0;
+      }
+    }
   }
-  return bad_domains == 0.0 && bad_pipes == 0.0;
+  return bad_domains == 0.0 && bad_pipes == 0.0 && bad_heads == 0.0;
 }
 
 }  // namespace

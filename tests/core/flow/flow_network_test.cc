@@ -108,6 +108,84 @@ TEST(FlowNetwork, ValidationNamesTheField) {
   EXPECT_TRUE(FlowNetwork::Create(ThreeDomains()).ok());
 }
 
+// On a network large enough for the one-region check on the threads: every bad coefficient is
+// still named, in the second thread's half too, and of two, the one the ordered checks reach
+// first (the volumes before the pipes).
+TEST(FlowNetwork, CoefficientChecksOnThreadsNameTheFirstFailure) {
+  const LatticeParams lp;
+  const FlowNetworkData good = testing::MakeSquareLatticeData(100, 100, lp);
+  ASSERT_GT(good.pipe_conductance.size(), 8192u);
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(2);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t late_domain = good.pressure.size() - 3;
+  const std::size_t late_pipe = good.pipe_conductance.size() - 5;
+  FlowNetworkData weighted = good;
+  weighted.pipe_head_offset.assign(good.pipe_conductance.size(), 0.5);
+  EXPECT_TRUE(FlowNetwork::ValidateCoefficients(good).ok());
+  EXPECT_TRUE(FlowNetwork::ValidateCoefficients(weighted).ok());
+  // The message names field[index], then says `why`.
+  const auto expect_named = [](const FlowNetworkData& d, const char* field, std::size_t index,
+                               const char* why = "") {
+    std::string named = field;
+    named += '[';
+    named += std::to_string(index);
+    named += ']';
+    named += why;
+    const Status s = FlowNetwork::ValidateCoefficients(d);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << named;
+    EXPECT_NE(s.message().find(named), std::string::npos) << s.message();
+  };
+  {
+    FlowNetworkData d = good;
+    d.apparent_volume[late_domain] = nan;
+    expect_named(d, "apparent_volume", late_domain);
+  }
+  {
+    FlowNetworkData d = good;
+    d.pore_volume[late_domain] = -1.0;
+    expect_named(d, "pore_volume", late_domain);
+  }
+  {
+    FlowNetworkData d = good;
+    d.pore_volume[late_domain] = 2.0 * d.apparent_volume[late_domain];
+    expect_named(d, "pore_volume", late_domain, ": exceeds apparent_volume");
+  }
+  {
+    FlowNetworkData d = good;
+    d.source_rate[late_domain] = 1e-9;
+    expect_named(d, "source_rate", late_domain, ": is 1e-09 but the domain's role is not kSource");
+  }
+  {
+    FlowNetworkData d = good;
+    d.pipe_length[late_pipe] = 0.0;
+    expect_named(d, "pipe_length", late_pipe);
+  }
+  {
+    FlowNetworkData d = good;
+    d.pipe_aperture[late_pipe] = nan;
+    expect_named(d, "pipe_aperture", late_pipe);
+  }
+  {
+    FlowNetworkData d = weighted;
+    d.pipe_head_offset[late_pipe] = nan;
+    expect_named(d, "pipe_head_offset", late_pipe);
+  }
+  {
+    FlowNetworkData d = good;
+    d.pipe_conductance[late_pipe] = 0.0;
+    expect_named(d, "pipe_conductance", late_pipe);
+  }
+  {
+    // Two failures: a pipe early in the list and a domain late in it; the volumes come first.
+    FlowNetworkData d = good;
+    d.pipe_conductance[3] = -1.0;
+    d.apparent_volume[late_domain] = -1.0;
+    expect_named(d, "apparent_volume", late_domain);
+  }
+  omp_set_num_threads(before);
+}
+
 TEST(FlowNetwork, ZeroStorageOfAFreeDomainIsRefusedBySolvers) {
   auto d = ThreeDomains();
   d.pore_volume[2] = 0.0;
