@@ -31,7 +31,9 @@ inline double ContactFraction(double r_lo, double r_hi, double d2) {
   const double sum = r_lo + r_hi;
   double f;
   if (d2 < sum * sum) {
-    f = 0.5 + (r_lo * r_lo - r_hi * r_hi) / (2.0 * d2);  // radical line
+    // Radical line; for equal radii the formula gives 0.5 + (+0)/(2 d2) = 0.5 exactly, so the
+    // division (most of the work per contact of a monodisperse packing) is skipped.
+    f = r_lo == r_hi ? 0.5 : 0.5 + (r_lo * r_lo - r_hi * r_hi) / (2.0 * d2);
   } else {
     // Mid-gap; equal radii (lattices, monodisperse DEM) need no square root.
     f = r_lo == r_hi ? 0.5 : 0.5 + (r_lo - r_hi) / (2.0 * std::sqrt(d2));
