@@ -209,7 +209,8 @@ void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::i
 DomainVolumeUpdater::SectorSums DomainVolumeUpdater::Sectors(const ParticleView& particles,
                                                              const DomainNetwork& network) const {
   // Bitwise (memcmp streams at memory speed; an element loop was a serial 10 us a step on the
-  // bench bed): for radii, which are positive, equal bits and equal values are the same thing.
+  // bench bed): radii are positive (wall vertices +0), never -0 or NaN, so equal bits and equal
+  // values are the same thing.
   if (particles.radius.size() == bind_radius_.size() &&
       (bind_radius_.empty() || std::memcmp(particles.radius.data(), bind_radius_.data(),
                                            bind_radius_.size() * sizeof(double)) == 0)) {
