@@ -198,8 +198,7 @@ std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t /
     double* __restrict capacity, double* __restrict rate) {
 #pragma omp simd
   for (std::ptrdiff_t d = lo; d < hi; ++d) {
-    const double scaled = factor * volume[d];
-    const double vs = scaled < floor ? floor : scaled;  // std::max, on values
+    const double vs = StorageVolumeFrom(volume[d], factor, floor);
     const bool live = (role[d] != DomainRole::kFixedPressure) & (vs > 0.0);
     const double cap = vs / bulk;
     const double inverse = 1.0 / cap;
@@ -378,7 +377,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
       for (std::ptrdiff_t d = lo; d < hi; ++d) {
         if (role[d] == DomainRole::kFixedPressure) continue;
         const double sum = sum_c[d];
-        const double vs = std::max(factor * volume[d], floor);
+        const double vs = StorageVolumeFrom(volume[d], factor, floor);
         if (!(vs > 0.0)) {
           any_non_positive = true;
           continue;
@@ -497,25 +496,24 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   if (threads > 1) {
     if (owner_threads_ != threads) IndexPipesByShare(network, threads);
     if (options_.diagnostics) stored_.resize(n);
-    ShareSweep sweep;
-    sweep.domains = static_cast<std::ptrdiff_t>(n);
-    sweep.threads = threads;
-    sweep.a = network.pipe_domain_a().data();
-    sweep.b = network.pipe_domain_b().data();
-    sweep.c = network.pipe_conductance().data();
-    sweep.owner_start = owner_start_.data();
-    sweep.owner_pipes = owner_pipes_.data();
-    sweep.rate = rate_.data();
-    sweep.capacity = capacity_.data();
-    sweep.volume_change = dv;
-    sweep.gain = gain_.data();
-    sweep.inflow = inflow_.data();
-    sweep.stored = stored_.data();
-    sweep.pressure = pressure;
-    sweep.node_outflow = node_outflow;
-    sweep.step = step;
-    sweep.inv_dt = inv_dt;
-    sweep.new_gain = new_gain;
+    const ShareSweep sweep{.domains = static_cast<std::ptrdiff_t>(n),
+                           .threads = threads,
+                           .a = network.pipe_domain_a().data(),
+                           .b = network.pipe_domain_b().data(),
+                           .c = network.pipe_conductance().data(),
+                           .owner_start = owner_start_.data(),
+                           .owner_pipes = owner_pipes_.data(),
+                           .rate = rate_.data(),
+                           .capacity = capacity_.data(),
+                           .volume_change = dv,
+                           .gain = gain_.data(),
+                           .inflow = inflow_.data(),
+                           .stored = stored_.data(),
+                           .pressure = pressure,
+                           .node_outflow = node_outflow,
+                           .step = step,
+                           .inv_dt = inv_dt,
+                           .new_gain = new_gain};
     SweepOnShares(sweep, options_.diagnostics ? &b : nullptr);
   } else {
     if (new_gain) {

@@ -49,9 +49,17 @@ std::ptrdiff_t FirstFailing(const std::vector<double>& v, Ok ok) {
 
 using internal::FiniteBranchFree;
 
+// The rules of the coefficient checks, branch-free: one definition for the ordered checks that
+// name a failure and for the one-region pass that finds whether there is one.
+inline bool FiniteNonNegative(double x) { return FiniteBranchFree(x) & (x >= 0.0); }
+inline bool FinitePositive(double x) { return FiniteBranchFree(x) & (x > 0.0); }
+// A source rate is finite, and non-zero only on a source domain.
+inline bool SourceRateFits(double rate, DomainRole role) {
+  return FiniteBranchFree(rate) & ((rate == 0.0) | (role == DomainRole::kSource));
+}
+
 Status CheckFiniteNonNegative(const char* field, const std::vector<double>& v) {
-  const std::ptrdiff_t i =
-      FirstFailing(v, [](double x) { return FiniteBranchFree(x) & (x >= 0.0); });
+  const std::ptrdiff_t i = FirstFailing(v, FiniteNonNegative);
   if (i < 0) return Status::Ok();
   return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
                          ": must be finite and >= 0 (got " +
@@ -66,8 +74,7 @@ Status CheckFinite(const char* field, const std::vector<double>& v) {
 }
 
 Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
-  const std::ptrdiff_t i =
-      FirstFailing(v, [](double x) { return FiniteBranchFree(x) & (x > 0.0); });
+  const std::ptrdiff_t i = FirstFailing(v, FinitePositive);
   if (i < 0) return Status::Ok();
   return InvalidArgument(Indexed(field, static_cast<std::size_t>(i)) +
                          ": must be finite and > 0 (got " +
@@ -172,18 +179,14 @@ bool CoefficientsPass(const FlowNetworkData& d) {
   {
 #pragma omp for simd schedule(static) nowait reduction(+ : bad_domains)
     for (std::ptrdiff_t i = 0; i < domains; ++i) {
-      const bool volumes_ok = FiniteBranchFree(apparent[i]) & (apparent[i] >= 0.0) &
-                              FiniteBranchFree(pore[i]) & (pore[i] >= 0.0) &
-                              (pore[i] <= apparent[i]);
-      const bool source_ok =
-          FiniteBranchFree(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
-      bad_domains += (volumes_ok & source_ok) ? 0.0 : 1.0;
+      const bool ok = FiniteNonNegative(apparent[i]) & FiniteNonNegative(pore[i]) &
+                      (pore[i] <= apparent[i]) & SourceRateFits(source[i], role[i]);
+      bad_domains += ok ? 0.0 : 1.0;
     }
 #pragma omp for simd schedule(static) nowait reduction(+ : bad_pipes)
     for (std::ptrdiff_t p = 0; p < pipes; ++p) {
-      const bool ok = FiniteBranchFree(length[p]) & (length[p] > 0.0) &
-                      FiniteBranchFree(aperture[p]) & (aperture[p] >= 0.0) &
-                      FiniteBranchFree(conductance[p]) & (conductance[p] > 0.0);
+      const bool ok = FinitePositive(length[p]) & FiniteNonNegative(aperture[p]) &
+                      FinitePositive(conductance[p]);
       bad_pipes += ok ? 0.0 : 1.0;
     }
     if (heads) {  // the fluid's weight: the same for the whole team
@@ -202,20 +205,8 @@ Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
   if (CoefficientsPass(d)) return Status::Ok();
   SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("apparent_volume", d.apparent_volume));
   SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pore_volume", d.pore_volume));
-  const auto nd = static_cast<std::ptrdiff_t>(d.pressure.size());
-  const double* pore = d.pore_volume.data();
-  const double* apparent = d.apparent_volume.data();
-  const double* source = d.source_rate.data();
-  const DomainRole* role = d.role.data();
-  double bad = 0.0;
-#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
-    if (nd >= internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < nd; ++i) {
-    const bool source_ok =
-        FiniteBranchFree(source[i]) & ((source[i] == 0.0) | (role[i] == DomainRole::kSource));
-    bad += ((pore[i] <= apparent[i]) & source_ok) ? 0.0 : 1.0;
-  }
-  for (std::size_t i = 0; bad > 0.0 && i < static_cast<std::size_t>(nd); ++i) {
+  // Reached only after the one-region pass found a failure: the checks in order, scanning.
+  for (std::size_t i = 0; i < d.pressure.size(); ++i) {
     if (d.pore_volume[i] > d.apparent_volume[i]) {
       return InvalidArgument(Indexed("pore_volume", i) + ": exceeds apparent_volume (" +
                              flow_internal::FormatNumber(d.pore_volume[i]) + " > " +

@@ -10,6 +10,8 @@
 #include <tuple>
 #include <utility>
 
+#include "seep/core/flow/storage_volume.h"
+
 namespace seep::core {
 namespace {
 
@@ -64,7 +66,7 @@ std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
 double StorageOf(std::span<const double> pore, std::span<const double> apparent, std::size_t dom,
                  const StorageModel& storage) {
   const double v = storage.volume == StorageVolume::kPore ? pore[dom] : apparent[dom];
-  return std::max(storage.factor * v, storage.floor_m2);
+  return StorageVolumeFrom(v, storage.factor, storage.floor_m2);
 }
 
 }  // namespace
