@@ -634,8 +634,8 @@ int main(int argc, char** argv) {
       ->group("");
   app.add_option("--test-crash-at", options.test_crash_at,
                  "TEST ONLY: POINT:N, seepd kills itself (SIGKILL) the N-th time it passes POINT: "
-                 "checkpoint-file (a file written, not yet recorded) or result-series (a result's "
-                 "series stored, not yet its final state)")
+                 "checkpoint-file (a file written, not yet recorded) or final-state (a finished "
+                 "job's final state ready, its success not yet recorded)")
       ->group("");
   app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
                  "TEST ONLY: the first N tries of writing a finished job's result fail")

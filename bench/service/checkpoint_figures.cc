@@ -81,8 +81,8 @@ ResumeSplit ResumeOnce(JobStore& store, const std::string& job_id, const std::st
   const auto t0 = Clock::now();
   auto records = store.ListCheckpoints(job_id);
   if (!records.ok()) Fail("ListCheckpoints", records.status());
-  auto file = service::ReadCheckpointFile(records->front().path);
-  if (!file.ok()) Fail("ReadCheckpointFile", file.status());
+  auto file = service::ReadCheckpoint(records->front());
+  if (!file.ok()) Fail("ReadCheckpoint", file.status());
   if (file->meta.scene_sha256 != scene_sha || file->meta.job_id != job_id) {
     Fail("checkpoint", core::DataLoss("belongs to another job"));
   }

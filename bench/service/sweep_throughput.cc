@@ -138,7 +138,11 @@ std::optional<ServiceRun> RunOnWorkers(const CoordinatorOptions& options, const 
   if (!submitted) return std::nullopt;
   run.submit_s = Seconds(submit_start, Clock::now());
 
-  std::int64_t launch_ms = TimeUtil::TimestampToMilliseconds(TimeUtil::GetCurrentTime());
+  // The system clock, as seepd's timestamps: protobuf's TimeUtil::GetCurrentTime() has whole
+  // seconds in Debian's build, which put up to a second of nothing into the service's time.
+  std::int64_t launch_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                               std::chrono::system_clock::now().time_since_epoch())
+                               .count();
   const auto launch = Clock::now();
   // Local workers start with the submission: their CPU counts from before it.
   const double seepd_cpu_start = local ? seepd_cpu_before_submit : seepd.process().CpuSeconds();

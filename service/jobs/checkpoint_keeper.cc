@@ -75,40 +75,53 @@ core::Status CheckpointKeeper::MaybeWrite(const core::Simulation& sim) {
 core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
   if (!enabled()) return core::Status::Ok();
   const auto start = std::chrono::steady_clock::now();
-  return WriteState(sim, SerializeSimulationState(sim.TakeSnapshot()), start,
-                    CheckpointRole::kResumePoint);
-}
-
-core::Status CheckpointKeeper::Write(const core::Simulation& sim, std::string_view state) {
-  if (!enabled()) return core::Status::Ok();
-  return WriteState(sim, state, std::chrono::steady_clock::now(), CheckpointRole::kFinalState);
-}
-
-core::Status CheckpointKeeper::WriteState(const core::Simulation& sim, std::string_view state,
-                                          std::chrono::steady_clock::time_point start,
-                                          CheckpointRole role) {
   last_step_ = sim.step();
   last_time_ = start;
-  CheckpointMeta meta;
-  meta.build_id = build_id_;
-  meta.job_id = job_.id;
-  meta.scene_sha256 = scene_sha256_;
-  meta.step = sim.step();
-  meta.time_s = sim.time_s();
-  auto saved = ledger_.SaveCheckpoint(job_, meta, state, policy_.keep, role);
+  auto saved =
+      ledger_.SaveCheckpoint(job_, MetaOf(sim), SerializeSimulationState(sim.TakeSnapshot()),
+                             policy_.keep, CheckpointRole::kResumePoint);
   if (!saved.ok()) {
     if (saved.status().code() == core::StatusCode::kAborted) return saved.status();
     log_->warn("checkpoint at step {} not kept: {}", sim.step(), saved.status().ToString());
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), saved.status().ToString()));
     return core::Status::Ok();
   }
-  ++written_;
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  seconds_writing_ += seconds;
-  if (policy_.on_written) policy_.on_written(*saved, seconds);
+  CountWritten(*saved,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   log_->debug("checkpoint at step {} ({} bytes)", sim.step(), *saved);
   return core::Status::Ok();
+}
+
+std::optional<FinalState> CheckpointKeeper::FinalStateOf(const core::Simulation& sim,
+                                                         std::string_view state) const {
+  if (!enabled()) return std::nullopt;
+  return FinalState{MetaOf(sim), state, policy_.keep};
+}
+
+void CheckpointKeeper::CountFinalState(const FinalState& final_state, const FinalStateKept& kept,
+                                       double seconds) {
+  if (kept.bytes) {
+    CountWritten(*kept.bytes, seconds);
+  } else if (!kept.failure.ok()) {  // its CHECKPOINT_FAILED event is the ledger's
+    log_->warn("final state at step {} not kept: {}", final_state.meta.step,
+               kept.failure.ToString());
+  }
+}
+
+CheckpointMeta CheckpointKeeper::MetaOf(const core::Simulation& sim) const {
+  CheckpointMeta meta;
+  meta.build_id = build_id_;
+  meta.job_id = job_.id;
+  meta.scene_sha256 = scene_sha256_;
+  meta.step = sim.step();
+  meta.time_s = sim.time_s();
+  return meta;
+}
+
+void CheckpointKeeper::CountWritten(std::int64_t bytes, double seconds) {
+  ++written_;
+  seconds_writing_ += seconds;
+  if (policy_.on_written) policy_.on_written(bytes, seconds);
 }
 
 }  // namespace seep::service

@@ -2,12 +2,13 @@
 //
 // The ledger (jobs/job_ledger.h) keeps them: seepd's StoreLedger as files in
 // <data-dir>/checkpoints/<job id>/ckpt-<step>.bin (checkpoint_io: atomic, verified; the folders
-// made durably, 0700), a remote worker's RemoteLedger by uploading them to seepd, which does the
-// same. A checkpoint is due every `every_steps` steps or `interval` of wall time, whichever comes
-// first (either may be off); only the newest `keep` are kept, and each one is recorded (fenced by
-// the job's lease epoch) before older ones are deleted. Resume asks the ledger for the newest one
-// that verifies and belongs to this scene, and takes it if it restores, else the next older one;
-// every checkpoint skipped is logged and recorded as a job event with the reason.
+// made durably, 0700; a small final state in its record in the store), a remote worker's
+// RemoteLedger by uploading them to seepd, which does the same. A checkpoint is due every
+// `every_steps` steps or `interval` of wall time, whichever comes first (either may be off); only
+// the newest `keep` are kept, and each one is recorded (fenced by the job's lease epoch) before
+// older ones are deleted. Resume asks the ledger for the newest one that verifies and belongs to
+// this scene, and takes it if it restores, else the next older one; every checkpoint skipped is
+// logged and recorded as a job event with the reason.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -55,17 +56,21 @@ class CheckpointKeeper {
   // as an event; the run goes on (its result is still correct, only less protected). A lost
   // lease is returned as ABORTED so the caller stops.
   core::Status Write(const core::Simulation& sim);
-  // The run's final state, already serialized (SerializeSimulationState of its snapshot); its
-  // outcome follows (CheckpointRole::kFinalState).
-  core::Status Write(const core::Simulation& sim, std::string_view state);
+  // The run's final state, already serialized (SerializeSimulationState of its snapshot), as the
+  // ledger keeps it with the run's success (JobLedger::RecordSuccess); nullopt when checkpoints
+  // are off. `state` must outlive the result.
+  std::optional<FinalState> FinalStateOf(const core::Simulation& sim, std::string_view state) const;
+  // What RecordSuccess kept of it, `seconds` after the success began to be recorded: counted
+  // as a checkpoint written, or logged as not kept.
+  void CountFinalState(const FinalState& final_state, const FinalStateKept& kept, double seconds);
 
   std::uint64_t written() const { return written_; }
   double seconds_writing() const { return seconds_writing_; }
 
  private:
-  // Write's work, timed from `start` (seconds_writing).
-  core::Status WriteState(const core::Simulation& sim, std::string_view state,
-                          std::chrono::steady_clock::time_point start, CheckpointRole role);
+  CheckpointMeta MetaOf(const core::Simulation& sim) const;
+  // One checkpoint written and recorded, `bytes` long, in `seconds`.
+  void CountWritten(std::int64_t bytes, double seconds);
   void Event(const std::string& kind, const std::string& message);
 
   JobLedger& ledger_;

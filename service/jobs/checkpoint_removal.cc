@@ -11,6 +11,7 @@ RemovedFiles RemoveCheckpointFiles(std::span<const CheckpointRecord> records, sp
   RemovedFiles removed;
   std::set<std::filesystem::path> folders;
   for (const CheckpointRecord& record : records) {
+    if (record.path.empty()) continue;  // the store held its bytes: gone with its record
     const std::filesystem::path path(record.path);
     std::error_code ec;
     const bool existed = std::filesystem::exists(path, ec);

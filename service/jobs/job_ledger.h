@@ -37,6 +37,20 @@ struct FetchedCheckpoint {
 // a power loss before it loses both and the job runs again.
 enum class CheckpointRole { kResumePoint, kFinalState };
 
+// A finished run's state as its end keeps it: the checkpoint's header and the state's bytes,
+// and how many of the job's checkpoints to keep (the newest; older ones are removed).
+struct FinalState {
+  CheckpointMeta meta;
+  std::string_view state;
+  std::uint32_t keep = 1;
+};
+
+// What RecordSuccess kept of the final state: its checkpoint's bytes, or why it was not kept.
+struct FinalStateKept {
+  std::optional<std::int64_t> bytes;  // nullopt: none was given, or it could not be kept
+  core::Status failure;               // why it could not be kept (the success stands)
+};
+
 class JobLedger {
  public:
   virtual ~JobLedger() = default;
@@ -77,6 +91,14 @@ class JobLedger {
                                          const std::vector<double>& values,
                                          const std::string& state_sha256,
                                          const JobProgress& final_progress) = 0;
+  // A run that succeeded: its final state kept (when given) as a checkpoint of role
+  // kFinalState, then its series, hash and final progress, then SUCCEEDED with its metrics. A
+  // final state that cannot be kept is a CHECKPOINT_FAILED event and `failure`, not an error:
+  // the run's outcome stands without it. This default makes the three calls above; a ledger
+  // that can do it in one commit does (StoreLedger).
+  virtual core::Result<FinalStateKept> RecordSuccess(const JobRecord& job, std::int64_t epoch,
+                                                     const std::optional<FinalState>& final_state,
+                                                     const RunSuccess& run);
   // The terminal state with its metrics (SUCCEEDED) or its error (FAILED, CANCELLED).
   virtual core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                               const std::string& error_code, const std::string& error_message,

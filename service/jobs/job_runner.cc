@@ -441,29 +441,35 @@ void JobRunner::ConcludeSimulation(SimulationRun& run) {
     AddEvent(job.id, running, "INTERRUPTED", fmt::format("shutdown at step {}", step));
   };
   ending.succeed = [&](double wall_s) -> Status {
-    const core::RunReport report = sim->Report();
+    core::RunReport report = sim->Report();
     SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(report.metrics, "job result"));
     // Serialized once: the final checkpoint holds the very bytes the result's hash covers.
     const std::string state = SerializeSimulationState(sim->TakeSnapshot());
-    (void)keeper.Write(*sim, state);  // the final state, for exports and later jobs
     // Done, in the last stage (its name stays for seep show).
     core::RunProgress done = sim->Progress();
     done.step = report.steps;
     done.time_s = report.time_s;
     done.fraction_done = 1.0;
-    const JobProgress final_progress = ProgressOf(done, 0.0);
-    const std::string state_sha256 = HexSha256(state);
-    const auto write_result = [&]() -> Status {
-      SEEP_RETURN_IF_ERROR(ledger_.StoreResultSeries(job.id, running.epoch, report.series.columns,
-                                                     report.series.values, state_sha256,
-                                                     final_progress));
-      if (options_.crash_points != nullptr) {
-        options_.crash_points->Reach(TestCrashPoints::kResultSeries);
-      }
-      return ledger_.Finish(job.id, running.epoch, JobState::kSucceeded, "", "", report.metrics,
-                            wall_s);
-    };
-    SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "result", true, write_result));
+    RunSuccess success;
+    success.series_columns = std::move(report.series.columns);
+    success.series_values = std::move(report.series.values);
+    success.state_sha256 = HexSha256(state);
+    success.final_progress = ProgressOf(done, 0.0);
+    success.metrics = std::move(report.metrics);
+    success.wall_time_s = wall_s;
+    // The final state (for exports and later jobs) is kept with the success, in one record.
+    const std::optional<FinalState> final_state = keeper.FinalStateOf(*sim, state);
+    const auto start = std::chrono::steady_clock::now();
+    FinalStateKept kept;
+    SEEP_RETURN_IF_ERROR(RetryFinalWrite(running, "result", true, [&]() -> Status {
+      SEEP_ASSIGN_OR_RETURN(kept, ledger_.RecordSuccess(job, running.epoch, final_state, success));
+      return Status::Ok();
+    }));
+    if (final_state) {
+      keeper.CountFinalState(
+          *final_state, kept,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
     log->info("succeeded in {:.3f} s after {} steps ({} checkpoints, {:.3f} s writing them)",
               wall_s, report.steps, keeper.written(), keeper.seconds_writing());
     return Status::Ok();

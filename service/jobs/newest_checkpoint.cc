@@ -11,7 +11,7 @@ std::optional<VerifiedCheckpoint> NextVerifiedCheckpoint(
   const std::string scene_sha256 = Sha256(job.scene);
   for (const CheckpointRecord& record : newest_first) {
     if (below_step && record.step >= *below_step) continue;
-    auto file = ReadCheckpointFile(record.path);
+    auto file = ReadCheckpoint(record);
     if (!file.ok()) {
       on_skip({record, file.status()});
       continue;

@@ -45,21 +45,36 @@ core::Status StoreLedger::AddEvent(const std::string& id, std::int64_t epoch,
   return store_.AddLeasedEvent(id, epoch, NowMs(), kind, message);
 }
 
+std::filesystem::path StoreLedger::CheckpointPath(const JobRecord& job, std::uint64_t step) const {
+  std::error_code ec;
+  return std::filesystem::absolute(checkpoint_dir_ / job.id, ec) /
+         fmt::format("ckpt-{:012}.bin", step);
+}
+
+void StoreLedger::RemoveDropped(const std::vector<CheckpointRecord>& dropped,
+                                std::uint64_t kept_step) const {
+  for (const CheckpointRecord& old : dropped) {
+    // The one just written may be among them (when stale newer records outrank it): keep it.
+    if (old.step == kept_step || old.path.empty()) continue;
+    std::error_code ec;
+    std::filesystem::remove(old.path, ec);
+  }
+}
+
 core::Result<std::int64_t> StoreLedger::SaveCheckpoint(const JobRecord& job,
                                                        const CheckpointMeta& meta,
                                                        std::string_view state, std::uint32_t keep,
                                                        CheckpointRole role) {
-  std::error_code ec;
-  const std::filesystem::path dir = std::filesystem::absolute(checkpoint_dir_ / job.id, ec);
-  const std::filesystem::path path = dir / fmt::format("ckpt-{:012}.bin", meta.step);
-  SEEP_RETURN_IF_ERROR(CreateDirectoriesDurably(dir));
-  SEEP_RETURN_IF_ERROR(WriteCheckpointFile(path, meta, state));
+  const std::filesystem::path path = CheckpointPath(job, meta.step);
+  const std::string bytes = EncodeCheckpoint(meta, state);
+  SEEP_RETURN_IF_ERROR(CreateDirectoriesDurably(path.parent_path()));
+  SEEP_RETURN_IF_ERROR(WriteCheckpointBytes(path, bytes));
   if (crash_points_ != nullptr) crash_points_->Reach(TestCrashPoints::kCheckpointFile);
   CheckpointRecord record;
   record.step = meta.step;
   record.time_s = meta.time_s;
   record.path = path.string();
-  record.bytes = static_cast<std::int64_t>(std::filesystem::file_size(path, ec));
+  record.bytes = static_cast<std::int64_t>(bytes.size());
   record.attempt = job.attempt;
   record.created_at_ms = NowMs();
   // Unrecorded (a lost lease, a store error), the file is left alone: a newer claim may have
@@ -70,11 +85,50 @@ core::Result<std::int64_t> StoreLedger::SaveCheckpoint(const JobRecord& job,
       store_.RecordCheckpoint(
           job.id, job.lease_epoch, record, keep,
           role == CheckpointRole::kFinalState ? CommitSync::kRelaxed : CommitSync::kDurable));
-  for (const CheckpointRecord& old : dropped) {
-    // The one just written may be among them (when stale newer records outrank it): keep it.
-    if (old.step != record.step) std::filesystem::remove(old.path, ec);
-  }
+  RemoveDropped(dropped, record.step);
   return record.bytes;
+}
+
+core::Result<FinalStateKept> StoreLedger::RecordSuccess(
+    const JobRecord& job, std::int64_t epoch, const std::optional<FinalState>& final_state,
+    const RunSuccess& run) {
+  FinalStateKept kept;
+  std::optional<CheckpointRecord> record;
+  if (final_state) {
+    record.emplace();
+    record->step = final_state->meta.step;
+    record->time_s = final_state->meta.time_s;
+    record->attempt = job.attempt;
+    record->created_at_ms = NowMs();
+    std::string bytes = EncodeCheckpoint(final_state->meta, final_state->state);
+    record->bytes = static_cast<std::int64_t>(bytes.size());
+    if (bytes.size() <= kStoredCheckpointMaxBytes) {
+      record->content = std::move(bytes);
+    } else {
+      const std::filesystem::path path = CheckpointPath(job, record->step);
+      kept.failure = CreateDirectoriesDurably(path.parent_path());
+      if (kept.failure.ok()) kept.failure = WriteCheckpointBytes(path, bytes);
+      record->path = path.string();
+    }
+    if (!kept.failure.ok()) {
+      record.reset();
+      if (auto s =
+              AddEvent(job.id, epoch, "CHECKPOINT_FAILED",
+                       fmt::format("step {}: {}", final_state->meta.step, kept.failure.ToString()));
+          !s.ok()) {
+        logger_->warn("job {}: event not stored: {}", job.id, s.ToString());
+      }
+    }
+  }
+  if (crash_points_ != nullptr) crash_points_->Reach(TestCrashPoints::kFinalState);
+  SEEP_ASSIGN_OR_RETURN(const std::vector<CheckpointRecord> dropped,
+                        store_.RecordSuccess(job.id, epoch, run, record ? &*record : nullptr,
+                                             final_state ? final_state->keep : 1, NowMs()));
+  if (record) {
+    RemoveDropped(dropped, record->step);
+    kept.bytes = record->bytes;
+  }
+  return kept;
 }
 
 core::Result<std::optional<FetchedCheckpoint>> StoreLedger::NewestCheckpoint(
@@ -82,7 +136,7 @@ core::Result<std::optional<FetchedCheckpoint>> StoreLedger::NewestCheckpoint(
   SEEP_ASSIGN_OR_RETURN(const std::vector<CheckpointRecord> records,
                         store_.ListCheckpoints(job.id));
   auto verified = NextVerifiedCheckpoint(job, records, below_step, [&](const SkippedCheckpoint& s) {
-    const std::string name = std::filesystem::path(s.record.path).filename().string();
+    const std::string name = CheckpointName(s.record);
     const std::string why = s.foreign ? "it belongs to another job or scene" : s.why.ToString();
     logger_->warn("job {}: checkpoint {} (step {}) skipped: {}", job.id, name, s.record.step, why);
     if (auto added = AddEvent(job.id, job.lease_epoch, "CHECKPOINT_SKIPPED",
@@ -96,7 +150,7 @@ core::Result<std::optional<FetchedCheckpoint>> StoreLedger::NewestCheckpoint(
   fetched.step = verified->record.step;
   fetched.meta = std::move(verified->file.meta);
   fetched.state = std::move(verified->file.state);
-  fetched.name = std::filesystem::path(verified->record.path).filename().string();
+  fetched.name = CheckpointName(verified->record);
   return std::optional<FetchedCheckpoint>(std::move(fetched));
 }
 

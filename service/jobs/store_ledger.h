@@ -17,7 +17,8 @@ namespace seep::service {
 class StoreLedger final : public JobLedger {
  public:
   // Checkpoint files go to <checkpoint_dir>/<job id>/ckpt-<step>.bin. `crash_points` (test only,
-  // may be null) is passed between a checkpoint file and its record.
+  // may be null) is passed between a checkpoint file and its record, and between a finished
+  // run's final state made ready (its file written, if it has one) and its success recorded.
   StoreLedger(JobStore& store, std::filesystem::path checkpoint_dir,
               std::shared_ptr<spdlog::logger> logger,
               const TestCrashPoints* crash_points = nullptr);
@@ -39,6 +40,12 @@ class StoreLedger final : public JobLedger {
                                  const std::vector<std::string>& columns,
                                  const std::vector<double>& values, const std::string& state_sha256,
                                  const JobProgress& final_progress) override;
+  // One durable commit for the whole success. A final state whose checkpoint is at most
+  // kStoredCheckpointMaxBytes goes into that commit too (its record holds the bytes); a larger
+  // one is written to its file first.
+  core::Result<FinalStateKept> RecordSuccess(const JobRecord& job, std::int64_t epoch,
+                                             const std::optional<FinalState>& final_state,
+                                             const RunSuccess& run) override;
   core::Status Finish(const std::string& id, std::int64_t epoch, JobState state,
                       const std::string& error_code, const std::string& error_message,
                       const std::vector<std::pair<std::string, double>>& metrics,
@@ -46,6 +53,11 @@ class StoreLedger final : public JobLedger {
   core::Status ReleaseLease(const std::string& id, std::int64_t epoch) override;
 
  private:
+  // Where the job's checkpoint of `step` is written, when it is a file.
+  std::filesystem::path CheckpointPath(const JobRecord& job, std::uint64_t step) const;
+  // Removes the files of records the store dropped, but not the one of step `kept_step`.
+  void RemoveDropped(const std::vector<CheckpointRecord>& dropped, std::uint64_t kept_step) const;
+
   JobStore& store_;
   std::filesystem::path checkpoint_dir_;
   std::shared_ptr<spdlog::logger> logger_;

@@ -19,10 +19,10 @@ core::Status TestCrashPoints::Arm(const std::string& spec) {
       nth = 0;
     }
   }
-  if ((point != kCheckpointFile && point != kResultSeries) || nth < 1) {
+  if ((point != kCheckpointFile && point != kFinalState) || nth < 1) {
     return core::InvalidArgument(
         fmt::format("--test-crash-at: '{}' is not POINT:N with POINT {} or {} and N >= 1", spec,
-                    kCheckpointFile, kResultSeries));
+                    kCheckpointFile, kFinalState));
   }
   spec_ = spec;
   point_ = point;

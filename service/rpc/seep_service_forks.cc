@@ -50,7 +50,7 @@ struct ParentCheckpoint {
 // with a staged run's state in it.
 core::Result<ParentCheckpoint> ReadParentCheckpoint(const JobRecord& parent,
                                                     const CheckpointRecord& record) {
-  SEEP_ASSIGN_OR_RETURN(CheckpointFile file, ReadCheckpointFile(record.path));
+  SEEP_ASSIGN_OR_RETURN(CheckpointFile file, ReadCheckpoint(record));
   if (file.meta.job_id != parent.id || file.meta.scene_sha256 != Sha256(parent.scene)) {
     return core::DataLoss("it belongs to another job or scene");
   }

@@ -53,8 +53,7 @@ class DelimitedReader {
 
 }  // namespace
 
-Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
-                           std::string_view state) {
+std::string EncodeCheckpoint(const CheckpointMeta& meta, std::string_view state) {
   v1::CheckpointHeader header;
   header.set_format_version(meta.format_version);
   header.set_build_id(meta.build_id);
@@ -79,24 +78,26 @@ Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMe
   v1::CheckpointTrailer trailer;
   trailer.set_file_sha256(Sha256(bytes));
   AppendDelimited(trailer, &bytes);
+  return bytes;
+}
 
+Status WriteCheckpointBytes(const std::filesystem::path& path, std::string_view bytes) {
   if (Status s = WriteFileDurably(path, bytes); !s.ok()) {
     return {s.code(), "checkpoint: " + s.message()};
   }
   return Status::Ok();
 }
 
-core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return core::NotFound(fmt::format("checkpoint: {}: cannot open", path.string()));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string bytes = buffer.str();
-  const std::string name = path.filename().string();
+Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
+                           std::string_view state) {
+  return WriteCheckpointBytes(path, EncodeCheckpoint(meta, state));
+}
+
+core::Result<CheckpointFile> DecodeCheckpoint(std::string_view bytes, std::string_view name) {
   auto loss = [&](const std::string& why) {
     return DataLoss(fmt::format("checkpoint: {}: {}", name, why));
   };
-  if (bytes.compare(0, kMagic.size(), kMagic) != 0) return loss("not a seep checkpoint (magic)");
+  if (bytes.substr(0, kMagic.size()) != kMagic) return loss("not a seep checkpoint (magic)");
 
   DelimitedReader reader(bytes, kMagic.size());
   v1::CheckpointHeader header;
@@ -131,13 +132,31 @@ core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& pat
   if (!reader.Next(&trailer)) {
     return loss("truncated before the trailer");
   }
-  if (trailer.file_sha256() != Sha256(std::string_view(bytes).substr(0, before_trailer))) {
+  if (trailer.file_sha256() != Sha256(bytes.substr(0, before_trailer))) {
     return loss("file checksum mismatch");
   }
   if (reader.offset() != bytes.size()) {
     return loss("unexpected bytes after the trailer");
   }
   return file;
+}
+
+core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return core::NotFound(fmt::format("checkpoint: {}: cannot open", path.string()));
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return DecodeCheckpoint(buffer.str(), path.filename().string());
+}
+
+core::Result<CheckpointFile> ReadCheckpoint(const CheckpointRecord& record) {
+  if (record.path.empty()) return DecodeCheckpoint(record.content, CheckpointName(record));
+  return ReadCheckpointFile(record.path);
+}
+
+std::string CheckpointName(const CheckpointRecord& record) {
+  if (record.path.empty()) return fmt::format("ckpt-{:012}.bin (in the store)", record.step);
+  return std::filesystem::path(record.path).filename().string();
 }
 
 }  // namespace seep::service

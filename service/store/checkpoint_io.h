@@ -1,5 +1,7 @@
-// Checkpoint files: crash-safe writing and verified reading (proto/seep/v1/checkpoint.proto has
-// the layout). The solver state is opaque bytes here; what goes into it is the solver's business.
+// Checkpoints: their bytes (proto/seep/v1/checkpoint.proto has the layout), crash-safe writing
+// of their files and verified reading. The solver state is opaque bytes here; what goes into it
+// is the solver's business. A checkpoint lives in a file, or (a small final state, see
+// kStoredCheckpointMaxBytes) in its record in the store: the same bytes, verified the same way.
 //
 // Writing is atomic (store/durable_files.h): the file is written under a unique temporary name
 // in the same directory (mode 0600), fsync'ed, renamed over <path>, and the directory is fsync'ed,
@@ -15,6 +17,7 @@
 #include <string>
 #include <string_view>
 
+#include "job_record.h"
 #include "seep/core/status.h"
 #include "sha256.h"
 
@@ -37,9 +40,26 @@ struct CheckpointFile {
   std::string state;
 };
 
+// A run's final state whose checkpoint is at most this many bytes is kept in its record, in the
+// transaction that records the run's success, instead of in a file of its own. For a sweep of
+// small jobs a file meant a folder, an inode and three fsyncs a job, and their I/O interrupts
+// cost more CPU than the rest of the job's bookkeeping; a blob this small is also read back
+// faster from SQLite than from a file. Larger states, and every resume point, go to files.
+inline constexpr std::size_t kStoredCheckpointMaxBytes = 256u << 10;
+
+// The checkpoint's bytes: magic, header, chunks with their SHA-256, trailer with the whole's.
+std::string EncodeCheckpoint(const CheckpointMeta& meta, std::string_view state);
+// Verifies and parses a checkpoint's bytes; `name` names it in errors.
+core::Result<CheckpointFile> DecodeCheckpoint(std::string_view bytes, std::string_view name);
+
+core::Status WriteCheckpointBytes(const std::filesystem::path& path, std::string_view bytes);
 core::Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
                                  std::string_view state);
 
 core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path);
+// The recorded checkpoint, from its file or (path empty) from the bytes the store holds.
+core::Result<CheckpointFile> ReadCheckpoint(const CheckpointRecord& record);
+// Its name in logs and events: the file's name, or the one it would have, marked as in the store.
+std::string CheckpointName(const CheckpointRecord& record);
 
 }  // namespace seep::service

@@ -123,12 +123,24 @@ struct BatchDemand {
   std::map<std::string, Use> by_batch_job;  // live batch jobs only; absent: nothing claimed
 };
 
-// One checkpoint file of a job, as the store records it.
+// What a run that succeeded leaves besides its final state (JobStore::RecordSuccess): its time
+// series, the final state's hash, where it ended (the progress at its last step), its metrics.
+struct RunSuccess {
+  std::vector<std::string> series_columns;
+  std::vector<double> series_values;
+  std::string state_sha256;
+  JobProgress final_progress;
+  std::vector<std::pair<std::string, double>> metrics;
+  double wall_time_s = 0.0;
+};
+
+// One checkpoint of a job, as the store records it.
 struct CheckpointRecord {
   std::string job_id;  // filled where records of several jobs travel together (retention)
   std::uint64_t step = 0;
   double time_s = 0.0;
-  std::string path;
+  std::string path;     // its file; empty when the store holds its bytes (content)
+  std::string content;  // the checkpoint's bytes, when the store holds them
   std::int64_t bytes = 0;
   std::uint32_t attempt = 1;
   std::int64_t created_at_ms = 0;

@@ -225,6 +225,14 @@ CREATE TABLE batch_jobs (
 ) STRICT;
 CREATE INDEX batch_jobs_live ON batch_jobs(submitted_at_ms) WHERE ended_at_ms IS NULL;
 )sql",
+    // v13: a checkpoint's bytes kept in its record (content; path '') for a run's small final
+    // state, written with the run's outcome (checkpoint_io.h, kStoredCheckpointMaxBytes). And
+    // jobs_by_state goes: jobs_queue (state, priority) serves every lookup by state, and one index
+    // fewer to rewrite at each claim and outcome.
+    R"sql(
+ALTER TABLE checkpoints ADD COLUMN content BLOB;
+DROP INDEX jobs_by_state;
+)sql",
 };
 constexpr int kMigrationCount = static_cast<int>(std::size(kMigrations));
 
@@ -333,9 +341,12 @@ JobStore::~JobStore() = default;
 Status JobStore::Migrate() {
   const StoreOperation operation("migrate the schema");
   std::lock_guard lock(mutex_);
-  SEEP_ASSIGN_OR_RETURN(Stmt version_stmt, db_->Prepare("PRAGMA user_version"));
-  SEEP_ASSIGN_OR_RETURN(const bool has_row, version_stmt.Step());
-  const int version = has_row ? static_cast<int>(version_stmt.ColumnInt(0)) : 0;
+  int version = 0;
+  {  // finalized before the migrations run: an open statement keeps DROP INDEX from running
+    SEEP_ASSIGN_OR_RETURN(Stmt version_stmt, db_->Prepare("PRAGMA user_version"));
+    SEEP_ASSIGN_OR_RETURN(const bool has_row, version_stmt.Step());
+    if (has_row) version = static_cast<int>(version_stmt.ColumnInt(0));
+  }
   if (version > kSchemaVersion) {
     return core::FailedPrecondition(fmt::format(
         "store: database schema version {} is newer than this seepd understands ({}); use a newer "
@@ -644,6 +655,15 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
   const StoreOperation operation("finish job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(
+      FinishLocked(id, epoch, state, error_code, error_message, metrics, wall_time_s, now_ms));
+  return tx.Commit();
+}
+
+Status JobStore::FinishLocked(const std::string& id, std::int64_t epoch, JobState state,
+                              const std::string& error_code, const std::string& error_message,
+                              const std::vector<std::pair<std::string, double>>& metrics,
+                              double wall_time_s, std::int64_t now_ms) {
   SEEP_ASSIGN_OR_RETURN(
       Stmt s, db_->Prepare("UPDATE jobs SET state = ?, error_code = ?, error_message = ?, "
                            "wall_time_s = ?, finished_at_ms = ?, lease_expires_at_ms = NULL "
@@ -669,8 +689,7 @@ Status JobStore::Finish(const std::string& id, std::int64_t epoch, JobState stat
       state == JobState::kSucceeded
           ? fmt::format("{} metric(s) after {:.3f} s", metrics.size(), wall_time_s)
           : fmt::format("{}: {}", error_code, error_message);
-  SEEP_RETURN_IF_ERROR(AddEventLocked(*db_, id, now_ms, JobStateName(state), outcome));
-  return tx.Commit();
+  return AddEventLocked(*db_, id, now_ms, JobStateName(state), outcome);
 }
 
 Result<JobRecord> JobStore::Cancel(const std::string& id, std::int64_t now_ms) {

@@ -82,7 +82,7 @@ enum class CommitSync { kDurable, kRelaxed };
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 12;
+  static constexpr int kSchemaVersion = 13;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   ~JobStore();
@@ -199,6 +199,14 @@ class JobStore {
                            const std::vector<std::string>& columns,
                            const std::vector<double>& values, const std::string& state_sha256,
                            const JobProgress* final_progress = nullptr);
+  // A run's success in one durable transaction, fenced by the lease epoch: its final state's
+  // checkpoint (when given; the records beyond the newest `keep` are dropped and returned, as
+  // RecordCheckpoint does), its series, hash and final progress, its metrics and SUCCEEDED. One
+  // commit, so a job is never SUCCEEDED without all of it, and one fsync for the lot.
+  Result<std::vector<CheckpointRecord>> RecordSuccess(const std::string& id, std::int64_t epoch,
+                                                      const RunSuccess& run,
+                                                      const CheckpointRecord* final_checkpoint,
+                                                      std::uint32_t keep, std::int64_t now_ms);
   // The job's event log, oldest first (the store adds SUBMITTED, CHECKPOINT, the outcome and
   // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
@@ -271,6 +279,19 @@ class JobStore {
                               const JobProgress& progress);
   // Records (or replaces) one checkpoint row of job `id`, inside the caller's transaction.
   Status InsertCheckpointLocked(const std::string& id, const CheckpointRecord& checkpoint);
+  // RecordCheckpoint's and RecordSuccess's part, inside the caller's transaction (lease checked).
+  Result<std::vector<CheckpointRecord>> RecordCheckpointLocked(const std::string& id,
+                                                               const CheckpointRecord& checkpoint,
+                                                               std::uint32_t keep);
+  // StoreResultSeries's and Finish's parts, inside the caller's transaction.
+  Status StoreResultSeriesLocked(const std::string& id, std::int64_t epoch,
+                                 const std::vector<std::string>& columns,
+                                 const std::vector<double>& values, const std::string& state_sha256,
+                                 const JobProgress* final_progress);
+  Status FinishLocked(const std::string& id, std::int64_t epoch, JobState state,
+                      const std::string& error_code, const std::string& error_message,
+                      const std::vector<std::pair<std::string, double>>& metrics,
+                      double wall_time_s, std::int64_t now_ms);
   // The ids of the jobs forked from `id`, oldest first.
   Result<std::vector<std::string>> ChildJobIdsLocked(const std::string& id);
   Result<std::optional<std::string>> FindByRequestIdLocked(const std::string& request_id);

@@ -62,6 +62,7 @@ Status CheckLease(Db& db, const std::string& id, std::int64_t epoch) {
 }  // namespace
 
 std::string JobStore::StoredCheckpointPath(const std::string& path) const {
+  if (path.empty()) return path;  // the store holds its bytes
   std::error_code ec;
   const std::filesystem::path absolute = std::filesystem::absolute(path, ec).lexically_normal();
   const std::filesystem::path relative = absolute.lexically_relative(data_dir_);
@@ -70,6 +71,7 @@ std::string JobStore::StoredCheckpointPath(const std::string& path) const {
 }
 
 std::filesystem::path JobStore::ResolvedCheckpointPath(const std::string& stored) const {
+  if (stored.empty()) return {};                   // the store holds its bytes
   return (data_dir_ / stored).lexically_normal();  // an absolute `stored` stays itself
 }
 
@@ -83,10 +85,12 @@ CheckpointRecord ReadCheckpointRow(const Stmt& s) {
   c.bytes = s.ColumnInt(3);
   c.attempt = static_cast<std::uint32_t>(s.ColumnInt(4));
   c.created_at_ms = s.ColumnInt(5);
+  if (!s.ColumnIsNull(6)) c.content = s.ColumnBlob(6);
   return c;
 }
 
-constexpr const char* kCheckpointColumns = "step, time_s, path, bytes, attempt, created_at_ms";
+constexpr const char* kCheckpointColumns =
+    "step, time_s, path, bytes, attempt, created_at_ms, content";
 
 }  // namespace
 
@@ -94,7 +98,7 @@ Status JobStore::InsertCheckpointLocked(const std::string& id, const CheckpointR
   SEEP_ASSIGN_OR_RETURN(
       Stmt insert,
       db_->Prepare(fmt::format("INSERT OR REPLACE INTO checkpoints (job_id, {}) VALUES (?, ?, ?, "
-                               "?, ?, ?, ?)",
+                               "?, ?, ?, ?, ?)",
                                kCheckpointColumns)));
   insert.Bind(1, std::string_view(id))
       .Bind(2, static_cast<std::int64_t>(checkpoint.step))
@@ -103,6 +107,11 @@ Status JobStore::InsertCheckpointLocked(const std::string& id, const CheckpointR
       .Bind(5, checkpoint.bytes)
       .Bind(6, static_cast<std::int64_t>(checkpoint.attempt))
       .Bind(7, checkpoint.created_at_ms);
+  if (checkpoint.path.empty()) {
+    insert.BindBlob(8, checkpoint.content);
+  } else {
+    insert.BindNull(8);
+  }
   return insert.Run();
 }
 
@@ -116,6 +125,14 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
   const RelaxedCommit relaxed(*db_, sync == CommitSync::kRelaxed);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_ASSIGN_OR_RETURN(std::vector<CheckpointRecord> dropped,
+                        RecordCheckpointLocked(id, checkpoint, keep));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return dropped;
+}
+
+Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpointLocked(
+    const std::string& id, const CheckpointRecord& checkpoint, std::uint32_t keep) {
   SEEP_RETURN_IF_ERROR(InsertCheckpointLocked(id, checkpoint));
   // The records beyond the newest `keep` (keep >= 1: the one just written always stays).
   SEEP_ASSIGN_OR_RETURN(
@@ -137,7 +154,6 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordCheckpoint(const std::stri
       AddEventLocked(*db_, id, checkpoint.created_at_ms, "CHECKPOINT",
                      fmt::format("step {} (t = {} s), {} bytes, attempt {}", checkpoint.step,
                                  checkpoint.time_s, checkpoint.bytes, checkpoint.attempt)));
-  SEEP_RETURN_IF_ERROR(tx.Commit());
   return dropped;
 }
 
@@ -162,7 +178,7 @@ Result<std::vector<CheckpointRecord>> JobStore::ListCheckpoints(const std::strin
 Result<std::vector<std::filesystem::path>> JobStore::AllCheckpointPaths() {
   const StoreOperation operation("list checkpoint files");
   std::lock_guard lock(mutex_);
-  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("SELECT path FROM checkpoints"));
+  SEEP_ASSIGN_OR_RETURN(Stmt s, db_->Prepare("SELECT path FROM checkpoints WHERE path != ''"));
   std::vector<std::filesystem::path> out;
   for (;;) {
     SEEP_ASSIGN_OR_RETURN(const bool row, s.Step());
@@ -172,22 +188,41 @@ Result<std::vector<std::filesystem::path>> JobStore::AllCheckpointPaths() {
   return out;
 }
 
-Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
-                                   const std::vector<std::string>& columns,
-                                   const std::vector<double>& values,
-                                   const std::string& state_sha256,
-                                   const JobProgress* final_progress) {
+namespace {
+
+Status CheckSeriesColumns(const std::vector<std::string>& columns) {
   for (const auto& c : columns) {
     if (c.empty() || c.find(',') != std::string::npos) {
       return core::InvalidArgument(
           fmt::format("store: series column '{}' must be non-empty and hold no comma", c));
     }
   }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
+                                   const std::vector<std::string>& columns,
+                                   const std::vector<double>& values,
+                                   const std::string& state_sha256,
+                                   const JobProgress* final_progress) {
+  SEEP_RETURN_IF_ERROR(CheckSeriesColumns(columns));
   const StoreOperation operation("store result series");
   std::lock_guard lock(mutex_);
   const RelaxedCommit relaxed(*db_);  // made durable by the outcome (Finish) that follows
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  SEEP_RETURN_IF_ERROR(
+      StoreResultSeriesLocked(id, epoch, columns, values, state_sha256, final_progress));
+  return tx.Commit();
+}
+
+Status JobStore::StoreResultSeriesLocked(const std::string& id, std::int64_t epoch,
+                                         const std::vector<std::string>& columns,
+                                         const std::vector<double>& values,
+                                         const std::string& state_sha256,
+                                         const JobProgress* final_progress) {
   SEEP_ASSIGN_OR_RETURN(Stmt s,
                         db_->Prepare("INSERT OR REPLACE INTO result_series (job_id, columns, vals, "
                                      "state_sha256) VALUES (?, ?, ?, ?)"));
@@ -200,7 +235,28 @@ Status JobStore::StoreResultSeries(const std::string& id, std::int64_t epoch,
   if (final_progress != nullptr) {
     SEEP_RETURN_IF_ERROR(UpdateProgressLocked(id, epoch, *final_progress));
   }
-  return tx.Commit();
+  return Status::Ok();
+}
+
+Result<std::vector<CheckpointRecord>> JobStore::RecordSuccess(
+    const std::string& id, std::int64_t epoch, const RunSuccess& run,
+    const CheckpointRecord* final_checkpoint, std::uint32_t keep, std::int64_t now_ms) {
+  SEEP_RETURN_IF_ERROR(CheckSeriesColumns(run.series_columns));
+  SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(run.metrics, "store"));
+  const StoreOperation operation("record a run's success");
+  std::lock_guard lock(mutex_);
+  SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
+  SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
+  std::vector<CheckpointRecord> dropped;
+  if (final_checkpoint != nullptr) {
+    SEEP_ASSIGN_OR_RETURN(dropped, RecordCheckpointLocked(id, *final_checkpoint, keep));
+  }
+  SEEP_RETURN_IF_ERROR(StoreResultSeriesLocked(id, epoch, run.series_columns, run.series_values,
+                                               run.state_sha256, &run.final_progress));
+  SEEP_RETURN_IF_ERROR(
+      FinishLocked(id, epoch, JobState::kSucceeded, "", "", run.metrics, run.wall_time_s, now_ms));
+  SEEP_RETURN_IF_ERROR(tx.Commit());
+  return dropped;
 }
 
 Status JobStore::ReadResultSeriesLocked(JobRecord& job) {

@@ -131,8 +131,8 @@ TEST_F(Chaos, TwentyTwoJobsSurviveSeededSigkillsBitIdentical) {
   std::uniform_int_distribution<int> delay_ms(250, 1200);
   // Which kill each round makes: at a random moment, or at a crash point's seeded n-th pass.
   // The crash points come early, while most jobs still have work left on any machine.
-  const std::vector<std::string> rounds = {"checkpoint-file", "", "result-series", "",
-                                           "checkpoint-file", "", "result-series", ""};
+  const std::vector<std::string> rounds = {"checkpoint-file", "", "final-state", "",
+                                           "checkpoint-file", "", "final-state", ""};
   int kills = 0;
   std::map<std::string, int> crash_points_hit;  // by point: rounds whose seepd killed itself
   for (const std::string& point : rounds) {
@@ -172,11 +172,11 @@ TEST_F(Chaos, TwentyTwoJobsSurviveSeededSigkillsBitIdentical) {
   ExpectBitIdenticalToUninterrupted(
       ids, expected, "seed " + std::to_string(seed) + ", " + std::to_string(kills) + " kills");
   EXPECT_GE(kills, 5);
-  for (const char* point : {"checkpoint-file", "result-series"}) {
+  for (const char* point : {"checkpoint-file", "final-state"}) {
     EXPECT_GE(crash_points_hit[point], 1) << point << " was never reached; see chaos.out";
   }
-  std::printf("chaos: %d kills, %d at checkpoint-file, %d at result-series (seed %u)\n", kills,
-              crash_points_hit["checkpoint-file"], crash_points_hit["result-series"], seed);
+  std::printf("chaos: %d kills, %d at checkpoint-file, %d at final-state (seed %u)\n", kills,
+              crash_points_hit["checkpoint-file"], crash_points_hit["final-state"], seed);
   const std::string log = ReadText(dir_ / "chaos.out");
   EXPECT_NE(log.find("resumed from checkpoint"), std::string::npos);
 }

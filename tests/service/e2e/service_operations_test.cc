@@ -82,6 +82,21 @@ class ServiceOperations : public GrpcSeepdTest {
     }
     return names;
   }
+  // The bytes of the job's final state as its last CHECKPOINT event gives them (the store holds a
+  // small one, so no file shows it); 0 when it has none.
+  std::uint64_t FinalStateBytes(const std::string& id) {
+    std::uint64_t bytes = 0;
+    const nlohmann::json events = CliJson({"events", id});
+    for (const auto& e : events["events"]) {
+      std::smatch m;
+      const std::string message = e["message"];
+      if (e["kind"] == "CHECKPOINT" &&
+          std::regex_search(message, m, std::regex(", ([0-9]+) bytes, attempt"))) {
+        bytes = std::stoull(m[1].str());
+      }
+    }
+    return bytes;
+  }
   grpc::health::v1::HealthCheckResponse::ServingStatus Health() {
     auto health = grpc::health::v1::Health::NewStub(
         grpc::CreateChannel(address_, grpc::InsecureChannelCredentials()));
@@ -292,8 +307,9 @@ TEST_F(ServiceOperations, EventsTellAJobsHistoryInOrder) {
 
 // The e2e case of issue 17: with --retain-days and --retain-checkpoint-bytes, the next start
 // deletes the finished jobs older than the limit (records and files), trims the superseded
-// checkpoints of a recent finished job to fit the byte budget and keeps its final one, and keeps
-// every checkpoint of a running and of a queued job.
+// checkpoints of a recent finished job to fit the byte budget and keeps its final one (a small
+// final state, kept in the store: it counts in the budget as a file would), and keeps every
+// checkpoint of a running and of a queued job.
 TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   const std::vector<std::string> flags = {
       "--workers", "1", "--checkpoint-every-steps", "300", "--checkpoints-kept", "3"};
@@ -308,6 +324,8 @@ TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   ASSERT_EQ(WaitTerminal(fresh).state(), v1::JOB_STATE_SUCCEEDED);
   const std::int64_t fresh_finished = Get(fresh).finished_at().seconds();
   ASSERT_GE(fresh_finished - old_finished, 4);
+  const std::uint64_t fresh_final = FinalStateBytes(fresh);
+  ASSERT_GT(fresh_final, 0u);
   // A job cancelled with checkpoints, resumed behind a running one: QUEUED at the restart.
   const std::string paused = Submit(LatticeScene("paused", 1.0));
   ASSERT_EQ(WaitRunningPast(paused, 700).state(), v1::JOB_STATE_RUNNING);
@@ -329,7 +347,7 @@ TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   const auto fresh_files = sizes(fresh);
   const auto running_files = sizes(running);
   const auto paused_files = sizes(paused);
-  ASSERT_EQ(fresh_files.size(), 3u);
+  ASSERT_EQ(fresh_files.size(), 2u);  // and its final state in the store
   ASSERT_FALSE(running_files.empty());
   ASSERT_FALSE(paused_files.empty());
   ASSERT_FALSE(CheckpointFiles(old_a).empty());
@@ -337,11 +355,10 @@ TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   for (const auto* files : {&running_files, &paused_files}) {
     for (const auto& [name, bytes] : *files) active += bytes;
   }
-  // Room for the active jobs, fresh's final checkpoint and half of its second newest: its two
-  // older ones must go, its final one stays.
-  const auto newest = std::prev(fresh_files.end());
-  const auto second = std::prev(newest);
-  const std::uintmax_t budget = active + newest->second + second->second / 2;
+  // Room for the active jobs, fresh's final checkpoint and half of its second newest (its newest
+  // file): its two files must go, its final state stays.
+  const auto second = std::prev(fresh_files.end());
+  const std::uintmax_t budget = active + fresh_final + second->second / 2;
   // Old jobs finished >= 4 s before fresh: a limit half-way between their ages.
   const double now = static_cast<double>(std::chrono::duration_cast<std::chrono::seconds>(
                                              std::chrono::system_clock::now().time_since_epoch())
@@ -366,7 +383,8 @@ TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
     EXPECT_FALSE(fs::exists(CheckpointFolder(gone))) << gone;
   }
   EXPECT_EQ(Get(fresh).state(), v1::JOB_STATE_SUCCEEDED);
-  EXPECT_EQ(CheckpointFiles(fresh), std::set<std::string>{newest->first});
+  EXPECT_TRUE(CheckpointFiles(fresh).empty());
+  EXPECT_EQ(FinalStateBytes(fresh), fresh_final);
   for (const auto& [id, files] : {std::pair{running, running_files}, {paused, paused_files}}) {
     for (const auto& [name, bytes] : files) {
       EXPECT_TRUE(fs::exists(CheckpointFolder(id) / name)) << id << "/" << name;
@@ -391,7 +409,7 @@ TEST_F(ServiceOperations, CheckpointFilesArePrivateSweptAtStartAndFollowAMovedDa
   ASSERT_EQ(WaitTerminal(id).state(), v1::JOB_STATE_SUCCEEDED);
   stub_.reset();
   ASSERT_EQ(server_.Stop(SIGTERM), 0);
-  const std::set<std::string> files = CheckpointFiles(id);
+  const std::set<std::string> files = CheckpointFiles(id);  // its final state is in the store
   ASSERT_FALSE(files.empty());
   EXPECT_EQ(fs::status(CheckpointFolder(id)).permissions() & fs::perms::all, fs::perms::owner_all);
   EXPECT_EQ(fs::status(dir_ / "data" / "checkpoints").permissions() & fs::perms::all,
@@ -417,15 +435,18 @@ TEST_F(ServiceOperations, CheckpointFilesArePrivateSweptAtStartAndFollowAMovedDa
                        "interrupted writes, 1 empty folder(s)"),
             std::string::npos)
       << Log();
-  // Its checkpoints are found in the moved folder: the fields of its final state.
+  // Its checkpoint files are found in the moved folder: the fields at its newest file's step.
+  const std::string newest = *files.rbegin();  // ckpt-<12 digits>.bin
   grpc::ClientContext ctx;
   ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
   v1::GetJobFieldsRequest request;
   request.set_job_id(id);
+  request.set_step(std::stoull(newest.substr(5, 12)));
   v1::GetJobFieldsResponse response;
   const grpc::Status fields = stub_->GetJobFields(&ctx, request, &response);
   ASSERT_TRUE(fields.ok()) << fields.error_message();
-  EXPECT_EQ(static_cast<std::size_t>(response.available_steps_size()), files.size());
+  EXPECT_EQ(response.step(), request.step());
+  EXPECT_EQ(static_cast<std::size_t>(response.available_steps_size()), files.size() + 1);
   EXPECT_GT(response.fields().domain_pressure_pa_size(), 0);
 }
 

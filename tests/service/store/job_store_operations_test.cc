@@ -12,7 +12,9 @@
 namespace seep::service {
 namespace {
 
-// What migrations v12, v11 and v10 added, taken away again (before a PRAGMA user_version).
+// What migrations v13, v12, v11 and v10 did, undone again (before a PRAGMA user_version).
+constexpr const char* kWithoutV13 =
+    "ALTER TABLE checkpoints DROP COLUMN content; CREATE INDEX jobs_by_state ON jobs(state); ";
 constexpr const char* kWithoutV12 =
     "DROP TABLE batch_jobs; DROP INDEX jobs_by_batch_job; ALTER TABLE jobs DROP COLUMN "
     "batch_job_id; ALTER TABLE jobs DROP COLUMN batch_node; ";
@@ -117,6 +119,7 @@ TEST_F(StoreOperations, MigrationSevenMakesOldCheckpointPathsRelative) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   ClaimWithCheckpoints("j-1", {5});
   ASSERT_NO_FATAL_FAILURE(ReopenAfter(
+      std::string(kWithoutV13) +
       std::string(
           "INSERT INTO jobs (id, name, state, scene, build_id, created_at_ms) VALUES ('j-2', "
           "'n', 'FAILED', x'00', 'b', 1);"
@@ -143,8 +146,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   const std::int64_t epoch = ClaimWithCheckpoints("j-1", {});
   ASSERT_TRUE(store_->UpdateProgress("j-1", epoch, JobProgress::At(4, 0.5, 0.25, 0)).ok());
-  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV12) + kWithoutV11 + kWithoutV10 +
-                                      "PRAGMA user_version = 9;"));
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV13) + kWithoutV12 + kWithoutV11 +
+                                      kWithoutV10 + "PRAGMA user_version = 9;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_EQ(old->progress.step, 4u);
@@ -166,8 +169,8 @@ TEST_F(StoreOperations, MigrationTenAddsTheStageColumns) {
 // can be stored after the migration.
 TEST_F(StoreOperations, MigrationElevenAddsTheParentColumns) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
-  ASSERT_NO_FATAL_FAILURE(
-      ReopenAfter(std::string(kWithoutV12) + kWithoutV11 + "PRAGMA user_version = 10;"));
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV13) + kWithoutV12 + kWithoutV11 +
+                                      "PRAGMA user_version = 10;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_FALSE(old->parent_job_id.has_value());
@@ -190,7 +193,8 @@ TEST_F(StoreOperations, MigrationTwelveAddsTheBatchJobs) {
   ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
   ASSERT_TRUE(store_->Insert(NewJob("j-2")).ok());
   ClaimWithCheckpoints("j-1", {});
-  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV12) + "PRAGMA user_version = 11;"));
+  ASSERT_NO_FATAL_FAILURE(
+      ReopenAfter(std::string(kWithoutV13) + kWithoutV12 + "PRAGMA user_version = 11;"));
   auto old = store_->Get("j-1");
   ASSERT_TRUE(old.ok()) << old.status().ToString();
   EXPECT_EQ(old->state, JobState::kRunning);
@@ -205,6 +209,31 @@ TEST_F(StoreOperations, MigrationTwelveAddsTheBatchJobs) {
   batch.state = "RUNNING";
   ASSERT_TRUE(store_->InsertBatchJob(batch).ok());
   EXPECT_EQ(store_->LiveBatchJobs()->size(), 1u);
+}
+
+// A database from before v13 keeps every checkpoint in a file and has jobs_by_state: its records
+// read back as files, the index is gone after the migration, and a success can then keep its
+// final state in the store.
+TEST_F(StoreOperations, MigrationThirteenLetsARecordHoldItsCheckpoint) {
+  ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
+  const std::int64_t epoch = ClaimWithCheckpoints("j-1", {5});
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(std::string(kWithoutV13) + "PRAGMA user_version = 12;"));
+  EXPECT_EQ(RawText("SELECT count(*) FROM sqlite_master WHERE name = 'jobs_by_state'"), "0");
+  auto old = store_->ListCheckpoints("j-1");
+  ASSERT_TRUE(old.ok()) << old.status().ToString();
+  ASSERT_EQ(old->size(), 1u);
+  EXPECT_EQ((*old)[0].path, CheckpointPath("j-1", 5).string());
+  EXPECT_EQ((*old)[0].content, "");
+
+  CheckpointRecord final_state;
+  final_state.step = 9;
+  final_state.content = "state";
+  RunSuccess run;
+  run.series_columns = {"time_s"};
+  run.series_values = {0.0};
+  ASSERT_TRUE(store_->RecordSuccess("j-1", epoch, run, &final_state, 3, 50).ok());
+  EXPECT_EQ(RawText("SELECT path || '|' || content FROM checkpoints WHERE step = 9"), "|state");
+  EXPECT_EQ(store_->Get("j-1")->state, JobState::kSucceeded);
 }
 
 // A failing statement: the Status names the operation and SQLite's generic reason, never the SQL
