@@ -159,15 +159,18 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
   const std::int32_t* loops = network.loop_particles.data();
   const auto domains = static_cast<std::ptrdiff_t>(network.num_domains());
   // Per domain writes only: threads change no bit. (The islands below write their hosts.)
-#pragma omp parallel for schedule(static) if (domains >= internal::kMinParallelItems)
-  for (std::ptrdiff_t d = 0; d < domains; ++d) {
-    const LoopMeasure m = MeasureLoop<kPore>(particles, loops, loop_entry_term_.data(), term,
-                                             static_cast<std::size_t>(network.loop_offsets[d]),
-                                             static_cast<std::size_t>(network.loop_offsets[d + 1]));
-    apparent_volume[d] = m.signed_area;
-    if constexpr (kPore)
-      pore_volume[d] = m.signed_area - sectors.loop[static_cast<std::size_t>(d)] + m.pore_terms;
-  }
+  internal::RunOnCoreThreads(domains, [&] {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t d = 0; d < domains; ++d) {
+      const LoopMeasure m =
+          MeasureLoop<kPore>(particles, loops, loop_entry_term_.data(), term,
+                             static_cast<std::size_t>(network.loop_offsets[d]),
+                             static_cast<std::size_t>(network.loop_offsets[d + 1]));
+      apparent_volume[d] = m.signed_area;
+      if constexpr (kPore)
+        pore_volume[d] = m.signed_area - sectors.loop[static_cast<std::size_t>(d)] + m.pore_terms;
+    }
+  });
   // Islands: the host loses the area inside the island's outer walk (traced clockwise, so its
   // signed area is negative) and, from V_p, the island's solid outside that walk.
   const std::int32_t* outer = network.outer_particles.data();
@@ -252,8 +255,7 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
   const double* __restrict inv_lo = edge_inv_r_lo_.data();
   const double* __restrict inv_hi = edge_inv_r_hi_.data();
   // Every pass writes per edge only: threads change no bit.
-#pragma omp parallel if (edges >= internal::kMinParallelItems)
-  {
+  internal::RunOnCoreThreads(edges, [&] {
 #pragma omp for schedule(static)
     for (std::ptrdiff_t e = 0; e < edges; ++e) {
       const std::ptrdiff_t lo = lo_of[e], hi = hi_of[e];
@@ -300,7 +302,7 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
       term[2 * e] = half_lens - sector_turn;
       term[2 * e + 1] = half_lens + sector_turn;
     }
-  }
+  });
 }
 
 Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const DomainNetwork& network) {
@@ -439,8 +441,12 @@ Status DomainVolumeUpdater::Compute(const ParticleView& particles, const DomainN
   const auto domains = static_cast<std::ptrdiff_t>(pore_volume.size());
   double* pore = pore_volume.data();
   const double* correction = rattler_correction_.data();
-#pragma omp parallel for simd schedule(static) if (domains >= internal::kMinParallelItems)
-  for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
+  if (internal::OnTeam(domains)) {
+#pragma omp parallel for simd schedule(static)
+    for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
+  } else {
+    for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
+  }
   return Status::Ok();
 }
 

@@ -215,25 +215,28 @@ class ApertureUpdateEffect final : public Effect {
     const double* r = s.particles.radius.data();
     const auto n = static_cast<std::ptrdiff_t>(pipes);
     // Per pipe writes only: threads change no bit.
-#pragma omp parallel for schedule(static) if (n >= internal::kMinParallelItems)
-    for (std::ptrdiff_t p = 0; p < n; ++p) {
-      const std::int32_t k = pair_of_pipe_[p];
-      if (k >= 0) {
-        force_[p] = std::max(dem.pair_normal_force(k), 0.0);
-        gap_[p] = dem.pair_gap(k);
-        continue;
+    internal::RunOnCoreThreads(n, [&] {
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t p = 0; p < n; ++p) {
+        const std::int32_t k = pair_of_pipe_[p];
+        if (k >= 0) {
+          force_[p] = std::max(dem.pair_normal_force(k), 0.0);
+          gap_[p] = dem.pair_gap(k);
+          continue;
+        }
+        force_[p] = 0.0;
+        gap_[p] = 0.0;
+        if (k == kNoContact || k == kWallFoot) continue;  // kept, or FootForcesAndGaps
+        const auto m = static_cast<std::size_t>(pipe_contact[p]);
+        const auto i = static_cast<std::size_t>(c.i[m]);
+        const auto j = static_cast<std::size_t>(c.j[m]);
+        // sqrt(dx^2 + dy^2), not hypot: its scaling guard costs 3x and coordinates cannot
+        // overflow.
+        const double dx = x[j] - x[i];
+        const double dy = y[j] - y[i];
+        gap_[p] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
       }
-      force_[p] = 0.0;
-      gap_[p] = 0.0;
-      if (k == kNoContact || k == kWallFoot) continue;  // kept, or FootForcesAndGaps
-      const auto m = static_cast<std::size_t>(pipe_contact[p]);
-      const auto i = static_cast<std::size_t>(c.i[m]);
-      const auto j = static_cast<std::size_t>(c.j[m]);
-      // sqrt(dx^2 + dy^2), not hypot: its scaling guard costs 3x and coordinates cannot overflow.
-      const double dx = x[j] - x[i];
-      const double dy = y[j] - y[i];
-      gap_[p] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
-    }
+    });
     if (!s.net.domains.walls.empty()) FootForcesAndGaps(s);
     ++s.counters.aperture_updates;
     return updater_->UpdatePerPipe(s.net.flow, force_, gap_).status();

@@ -51,10 +51,15 @@ ParticleView FluidVertices::Fill(const LiveState& s, std::span<const double> x,
   double* __restrict to_x = x_.data();
   double* __restrict to_y = y_.data();
   const auto particles = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if (particles >= internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < particles; ++i) {
-    to_x[i] = from_x[i];
-    to_y[i] = from_y[i];
+  if (internal::OnTeam(particles)) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < particles; ++i) {
+      to_x[i] = from_x[i];
+      to_y[i] = from_y[i];
+    }
+  } else {
+    std::copy(from_x, from_x + particles, to_x);
+    std::copy(from_y, from_y + particles, to_y);
   }
   const std::span<double> vx = std::span<double>(x_).subspan(n);
   const std::span<double> vy = std::span<double>(y_).subspan(n);

@@ -341,9 +341,8 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   double* __restrict inflow = inflow_.data();
   const double* __restrict q_src = network.source_rate().data();
   double sources = 0.0;  // a count, exact in any order
-#pragma omp parallel num_threads(threads) if (threads > 1) \
-    reduction(|| : any_non_positive) reduction(+ : sources)
-  {
+  // The shares' pass; on a team, its flag and count are each thread's own (reduced after).
+  const auto refresh_shares = [&](bool& non_positive_seen, double& source_count) {
     // sum C per domain, pipe by pipe in pipe order. One thread passes over all pipes; on several,
     // each share of the domains is passed over the pipes touching it (IndexPipesByShare), adding
     // to its own domains only, so every domain gets the same terms in the same order. A team
@@ -379,7 +378,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
         const double sum = sum_c[d];
         const double vs = StorageVolumeFrom(volume[d], factor, floor);
         if (!(vs > 0.0)) {
-          any_non_positive = true;
+          non_positive_seen = true;
           continue;
         }
         if (!(sum > 0.0)) continue;  // dt_i = infinity
@@ -402,8 +401,14 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
       for (std::ptrdiff_t d = lo; d < hi; ++d) {
         share_sources += ((role[d] == DomainRole::kSource) & (q_src[d] != 0.0)) ? 1.0 : 0.0;
       }
-      sources += share_sources;
+      source_count += share_sources;
     }
+  };
+  if (threads > 1) {
+#pragma omp parallel num_threads(threads) reduction(|| : any_non_positive) reduction(+ : sources)
+    refresh_shares(any_non_positive, sources);
+  } else {  // no region: a team of one still costs a futex wake (parallel_threshold.h)
+    refresh_shares(any_non_positive, sources);
   }
   if (any_non_positive) {
     for (std::size_t d = 0; d < n; ++d) {
@@ -612,8 +617,12 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
     const auto domains = static_cast<std::ptrdiff_t>(volume_change.size());
     double* __restrict sub = sub_step_volume_change_.data();
     const double* __restrict whole = volume_change.data();
-#pragma omp parallel for simd schedule(static) if (domains >= internal::kMinParallelItems)
-    for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
+    if (internal::OnTeam(domains)) {
+#pragma omp parallel for simd schedule(static)
+      for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
+    } else {
+      for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
+    }
     dv = sub_step_volume_change_;
   }
   out.max_mass_balance_error = options_.diagnostics ? 0.0 : FlowStepReport::kNaN;

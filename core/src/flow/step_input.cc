@@ -28,9 +28,13 @@ Status CheckStepInput(std::string_view solver, double dt, std::size_t num_domain
     const auto n = static_cast<std::ptrdiff_t>(volume_change.size());
     double bad = 0.0;
     // A count (exact in any order), so on the threads it is the same number.
-#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
-    if (n >= internal::kMinParallelItems)
-    for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
+    if (internal::OnTeam(n)) {
+#pragma omp parallel for simd schedule(static) reduction(+ : bad)
+      for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
+    } else {
+#pragma omp simd reduction(+ : bad)
+      for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
+    }
     for (std::size_t d = 0; bad > 0.0 && d < volume_change.size(); ++d) {
       if (!std::isfinite(volume_change[d])) {
         return InvalidArgument(fmt::format("flow.{}.volume_change[{}]: must be finite (got {})",

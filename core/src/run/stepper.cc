@@ -293,10 +293,15 @@ Status Stepper::CheckParticlesFinite(std::uint64_t step) const {
   const double* y = p.y.data();
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   double bad = 0.0;
-#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
-    if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    bad += (internal::FiniteBranchFree(x[i]) & internal::FiniteBranchFree(y[i])) ? 0.0 : 1.0;
+  const auto finite = [&](std::ptrdiff_t i) {
+    return internal::FiniteBranchFree(x[i]) & internal::FiniteBranchFree(y[i]);
+  };
+  if (internal::OnTeam(n)) {
+#pragma omp parallel for simd schedule(static) reduction(+ : bad)
+    for (std::ptrdiff_t i = 0; i < n; ++i) bad += finite(i) ? 0.0 : 1.0;
+  } else {
+#pragma omp simd reduction(+ : bad)
+    for (std::ptrdiff_t i = 0; i < n; ++i) bad += finite(i) ? 0.0 : 1.0;
   }
   if (bad == 0.0) return Status::Ok();
   for (std::size_t i = 0; i < p.size(); ++i) {
