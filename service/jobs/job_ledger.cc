@@ -18,8 +18,7 @@ core::Result<FinalStateKept> JobLedger::RecordSuccess(const JobRecord& job, std:
     } else {
       kept.failure = saved.status();
       // Best effort: the history line is worth less than the outcome that follows.
-      (void)AddEvent(job.id, epoch, "CHECKPOINT_FAILED",
-                     fmt::format("step {}: {}", final_state->meta.step, kept.failure.ToString()));
+      (void)AddFinalStateFailedEvent(job, epoch, final_state->meta.step, kept.failure);
     }
   }
   SEEP_RETURN_IF_ERROR(StoreResultSeries(job.id, epoch, run.series_columns, run.series_values,
@@ -27,6 +26,12 @@ core::Result<FinalStateKept> JobLedger::RecordSuccess(const JobRecord& job, std:
   SEEP_RETURN_IF_ERROR(
       Finish(job.id, epoch, JobState::kSucceeded, "", "", run.metrics, run.wall_time_s));
   return kept;
+}
+
+core::Status JobLedger::AddFinalStateFailedEvent(const JobRecord& job, std::int64_t epoch,
+                                                 std::uint64_t step, const core::Status& why) {
+  return AddEvent(job.id, epoch, "CHECKPOINT_FAILED",
+                  fmt::format("step {}: {}", step, why.ToString()));
 }
 
 }  // namespace seep::service

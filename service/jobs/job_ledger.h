@@ -110,6 +110,11 @@ class JobLedger {
   // coordinator's rescuer queues the job again on its next round (the new checkpoint is the
   // progress that keeps it from counting as an interruption without progress).
   virtual core::Status ReleaseLease(const std::string& id, std::int64_t epoch) = 0;
+
+ protected:
+  // The CHECKPOINT_FAILED event of a final state that could not be kept (RecordSuccess).
+  core::Status AddFinalStateFailedEvent(const JobRecord& job, std::int64_t epoch,
+                                        std::uint64_t step, const core::Status& why);
 };
 
 }  // namespace seep::service

@@ -112,9 +112,7 @@ core::Result<FinalStateKept> StoreLedger::RecordSuccess(
     }
     if (!kept.failure.ok()) {
       record.reset();
-      if (auto s =
-              AddEvent(job.id, epoch, "CHECKPOINT_FAILED",
-                       fmt::format("step {}: {}", final_state->meta.step, kept.failure.ToString()));
+      if (auto s = AddFinalStateFailedEvent(job, epoch, final_state->meta.step, kept.failure);
           !s.ok()) {
         logger_->warn("job {}: event not stored: {}", job.id, s.ToString());
       }

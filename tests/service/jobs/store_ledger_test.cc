@@ -7,6 +7,7 @@
 #include <spdlog/sinks/null_sink.h>
 
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 
@@ -93,6 +94,26 @@ TEST_F(StoreLedgerSuccess, ALargeFinalStateIsKeptInItsFile) {
             dir_ / "checkpoints" / job_.id / "ckpt-000000000040.bin");
   EXPECT_EQ(static_cast<std::int64_t>(std::filesystem::file_size((*records)[0].path)), *kept.bytes);
   EXPECT_EQ(NewestState(), state_);
+}
+
+// A large final state whose file cannot be written (a file stands where its folder goes): the
+// success is recorded without it, with a CHECKPOINT_FAILED event naming the step, and the
+// failure is returned for the runner's log.
+TEST_F(StoreLedgerSuccess, AFinalStateThatCannotBeWrittenLeavesTheSuccessStanding) {
+  std::ofstream(dir_ / "checkpoints") << "not a folder";
+  const FinalStateKept kept = Succeed(kStoredCheckpointMaxBytes + 1);
+  EXPECT_FALSE(kept.bytes.has_value());
+  EXPECT_FALSE(kept.failure.ok());
+  EXPECT_EQ(store_->Get(job_.id)->state, JobState::kSucceeded);
+  EXPECT_TRUE(store_->ListCheckpoints(job_.id)->empty());
+  auto events = store_->ListEvents(job_.id);
+  ASSERT_TRUE(events.ok());
+  bool failed_event = false;
+  for (const JobEventRecord& e : *events) {
+    failed_event =
+        failed_event || (e.kind == "CHECKPOINT_FAILED" && e.message.rfind("step 40: ", 0) == 0);
+  }
+  EXPECT_TRUE(failed_event);
 }
 
 }  // namespace
