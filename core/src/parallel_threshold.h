@@ -21,8 +21,9 @@ inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
 // it must run without a parallel region. OpenMP's `if` clause is not enough: false, it still has
 // libgomp make a team of one and end it with a futex wake, about 0.2 us and a system call a
 // region. A step of a small explicit job entered one such region (1,500 a job of a sweep, about
-// 3 % of its time) and a coupled step on one thread about twenty. A loop of a line or two is
-// written twice (a parallel for and a plain one); a longer block goes through RunOnCoreThreads.
+// 3 % of its time). A loop of a line or two is written twice (a parallel for and a plain one); a
+// longer block goes through RunOnCoreThreads. The DEM's loops and the vectorised coefficient,
+// aperture and volume-change passes still use the clause (see RunOnCoreThreads for why).
 inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && omp_get_max_threads() > 1; }
 
 // Runs `body`, whose loops are orphaned `omp for` constructs, on a team when OnTeam(n), else
