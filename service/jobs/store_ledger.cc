@@ -119,9 +119,10 @@ core::Result<FinalStateKept> StoreLedger::RecordSuccess(
     }
   }
   if (crash_points_ != nullptr) crash_points_->Reach(TestCrashPoints::kFinalState);
-  SEEP_ASSIGN_OR_RETURN(const std::vector<CheckpointRecord> dropped,
-                        store_.RecordSuccess(job.id, epoch, run, record ? &*record : nullptr,
-                                             final_state ? final_state->keep : 1, NowMs()));
+  SEEP_ASSIGN_OR_RETURN(
+      const std::vector<CheckpointRecord> dropped,
+      store_.RecordSuccess(job.id, epoch, run, record ? &*record : nullptr,
+                           final_state ? final_state->keep : 1, NowMs(), CommitSync::kWindowed));
   if (record) {
     RemoveDropped(dropped, record->step);
     kept.bytes = record->bytes;

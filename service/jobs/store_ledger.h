@@ -40,9 +40,11 @@ class StoreLedger final : public JobLedger {
                                  const std::vector<std::string>& columns,
                                  const std::vector<double>& values, const std::string& state_sha256,
                                  const JobProgress& final_progress) override;
-  // One durable commit for the whole success. A final state whose checkpoint is at most
-  // kStoredCheckpointMaxBytes goes into that commit too (its record holds the bytes); a larger
-  // one is written to its file first.
+  // One commit for the whole success, made durable within the store's durability window
+  // (CommitSync::kWindowed: these runs are seepd's own, and one lost to a power loss runs again
+  // to the same bytes). A final state whose checkpoint is at most kStoredCheckpointMaxBytes goes
+  // into that commit too (its record holds the bytes); a larger one is written to its file first
+  // (durably: the commit's record points to it).
   core::Result<FinalStateKept> RecordSuccess(const JobRecord& job, std::int64_t epoch,
                                              const std::optional<FinalState>& final_state,
                                              const RunSuccess& run) override;

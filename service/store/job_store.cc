@@ -331,8 +331,15 @@ Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
   std::unique_ptr<JobStore> store(
       new JobStore(std::make_unique<Db>(std::move(db)), std::move(data_dir)));
   SEEP_RETURN_IF_ERROR(store->Migrate());
+  // SQLite names the WAL after the database; reading in WAL mode (Migrate did) created it.
+  SEEP_ASSIGN_OR_RETURN(store->durability_window_,
+                        DurabilityWindow::Open(path + "-wal", kDurabilityWindow));
   return store;
 }
+
+std::uint64_t JobStore::WindowedSyncs() const { return durability_window_->syncs(); }
+bool JobStore::WindowedCommitPending() const { return durability_window_->pending(); }
+Status JobStore::FlushWindowedCommits() { return durability_window_->Flush(); }
 
 JobStore::JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir)
     : db_(std::move(db)), data_dir_(std::move(data_dir)) {}

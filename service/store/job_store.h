@@ -4,6 +4,7 @@
 // tables, migrations by PRAGMA user_version. SQL never leaves this directory.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "durability_window.h"
 #include "job_record.h"
 #include "seep/core/status.h"
 #include "stored_calibration.h"
@@ -77,14 +79,18 @@ struct CrashLoopFailure {
 
 // How a commit reaches the disk. kDurable: synced (it survives a power loss). kRelaxed: written
 // but not synced, so it survives a crash of the process, not a power loss, and the next durable
-// commit makes it durable too (WAL frames are synced in order).
-enum class CommitSync { kDurable, kRelaxed };
+// commit makes it durable too (WAL frames are synced in order). kWindowed: kRelaxed, and the
+// store's DurabilityWindow syncs it within JobStore::kDurabilityWindow (one fsync for every
+// commit of the window), or the next durable commit does sooner.
+enum class CommitSync { kDurable, kRelaxed, kWindowed };
 
 class JobStore {
  public:
   static constexpr int kSchemaVersion = 13;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
+  // How long a CommitSync::kWindowed commit may wait for its fsync.
+  static constexpr std::chrono::milliseconds kDurabilityWindow{100};
   ~JobStore();
 
   // The folder holding the database is the data folder: checkpoint paths inside it are stored
@@ -199,14 +205,23 @@ class JobStore {
                            const std::vector<std::string>& columns,
                            const std::vector<double>& values, const std::string& state_sha256,
                            const JobProgress* final_progress = nullptr);
-  // A run's success in one durable transaction, fenced by the lease epoch: its final state's
-  // checkpoint (when given; the records beyond the newest `keep` are dropped and returned, as
+  // A run's success in one transaction, fenced by the lease epoch: its final state's checkpoint
+  // (when given; the records beyond the newest `keep` are dropped and returned, as
   // RecordCheckpoint does), its series, hash and final progress, its metrics and SUCCEEDED. One
-  // commit, so a job is never SUCCEEDED without all of it, and one fsync for the lot.
+  // commit, so a job is never SUCCEEDED without all of it. `sync`: kDurable (one fsync for the
+  // lot) or kWindowed, for a run of seepd's own workers: lost to a power loss within the window,
+  // the job is RUNNING (or QUEUED) again at the next start and runs again to the same bytes.
   Result<std::vector<CheckpointRecord>> RecordSuccess(const std::string& id, std::int64_t epoch,
                                                       const RunSuccess& run,
                                                       const CheckpointRecord* final_checkpoint,
-                                                      std::uint32_t keep, std::int64_t now_ms);
+                                                      std::uint32_t keep, std::int64_t now_ms,
+                                                      CommitSync sync = CommitSync::kDurable);
+  // Windowed commits synced so far by the durability window (each covers all before it), and
+  // whether one waits: for tests and the service's metrics.
+  std::uint64_t WindowedSyncs() const;
+  bool WindowedCommitPending() const;
+  // Syncs the windowed commits now, instead of at the end of their window.
+  Status FlushWindowedCommits();
   // The job's event log, oldest first (the store adds SUBMITTED, CHECKPOINT, the outcome and
   // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
@@ -310,6 +325,9 @@ class JobStore {
   std::mutex mutex_;
   std::unique_ptr<Db> db_;
   std::filesystem::path data_dir_;  // absolute, normalized
+  // After db_: destroyed first, so that it syncs what is pending while the connection (which
+  // keeps the WAL file) is still open.
+  std::unique_ptr<DurabilityWindow> durability_window_;
 };
 
 }  // namespace seep::service

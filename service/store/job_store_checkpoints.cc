@@ -240,11 +240,13 @@ Status JobStore::StoreResultSeriesLocked(const std::string& id, std::int64_t epo
 
 Result<std::vector<CheckpointRecord>> JobStore::RecordSuccess(
     const std::string& id, std::int64_t epoch, const RunSuccess& run,
-    const CheckpointRecord* final_checkpoint, std::uint32_t keep, std::int64_t now_ms) {
+    const CheckpointRecord* final_checkpoint, std::uint32_t keep, std::int64_t now_ms,
+    CommitSync sync) {
   SEEP_RETURN_IF_ERROR(CheckSeriesColumns(run.series_columns));
   SEEP_RETURN_IF_ERROR(CheckFiniteMetrics(run.metrics, "store"));
   const StoreOperation operation("record a run's success");
   std::lock_guard lock(mutex_);
+  const RelaxedCommit relaxed(*db_, sync != CommitSync::kDurable);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
   SEEP_RETURN_IF_ERROR(CheckLease(*db_, id, epoch));
   std::vector<CheckpointRecord> dropped;
@@ -256,6 +258,7 @@ Result<std::vector<CheckpointRecord>> JobStore::RecordSuccess(
   SEEP_RETURN_IF_ERROR(
       FinishLocked(id, epoch, JobState::kSucceeded, "", "", run.metrics, run.wall_time_s, now_ms));
   SEEP_RETURN_IF_ERROR(tx.Commit());
+  if (sync == CommitSync::kWindowed) durability_window_->Committed();
   return dropped;
 }
 
