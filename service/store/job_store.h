@@ -86,7 +86,7 @@ enum class CommitSync { kDurable, kRelaxed, kWindowed };
 
 class JobStore {
  public:
-  static constexpr int kSchemaVersion = 13;
+  static constexpr int kSchemaVersion = 14;
   // How many interruptions in a row without progress fail a job (see RequeueRunning).
   static constexpr int kDefaultMaxInterruptions = 3;
   // How long a CommitSync::kWindowed commit may wait for its fsync.

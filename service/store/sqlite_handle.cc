@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <mutex>
+
 #include "seep/core/log.h"
 
 namespace seep::service {
@@ -107,6 +109,10 @@ bool Stmt::ColumnIsNull(int col) const {
 }
 
 Result<Db> Db::Open(const std::string& path) {
+  // Before SQLite initializes (its first open): no memory statistics. Kept, they take a global
+  // mutex at every allocation SQLite makes, for figures nothing here reads.
+  static std::once_flag configured;
+  std::call_once(configured, [] { (void)sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0); });
   sqlite3* raw = nullptr;
   const int rc =
       sqlite3_open_v2(path.c_str(), &raw,

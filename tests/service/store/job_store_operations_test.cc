@@ -12,7 +12,13 @@
 namespace seep::service {
 namespace {
 
-// What migrations v13, v12, v11 and v10 did, undone again (before a PRAGMA user_version).
+// What migrations v14, v13, v12, v11 and v10 did, undone again (before a PRAGMA user_version).
+// (The tests of v13 and earlier leave results as v14 made them: v14 run again on it copies it.)
+constexpr const char* kWithoutV14 =
+    "CREATE TABLE results_rowid (job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE, "
+    "name TEXT NOT NULL, value REAL NOT NULL, PRIMARY KEY (job_id, name)) STRICT; "
+    "INSERT INTO results_rowid SELECT job_id, name, value FROM results; DROP TABLE results; "
+    "ALTER TABLE results_rowid RENAME TO results; ";
 constexpr const char* kWithoutV13 =
     "ALTER TABLE checkpoints DROP COLUMN content; CREATE INDEX jobs_by_state ON jobs(state); ";
 constexpr const char* kWithoutV12 =
@@ -234,6 +240,38 @@ TEST_F(StoreOperations, MigrationThirteenLetsARecordHoldItsCheckpoint) {
   ASSERT_TRUE(store_->RecordSuccess("j-1", epoch, run, &final_state, 3, 50).ok());
   EXPECT_EQ(RawText("SELECT path || '|' || content FROM checkpoints WHERE step = 9"), "|state");
   EXPECT_EQ(store_->Get("j-1")->state, JobState::kSucceeded);
+}
+
+// A database from before v14 keeps each metric as a row and an entry of its key's index: after
+// the migration every metric is there, in one b-tree without rowids, and new ones go in too.
+TEST_F(StoreOperations, MigrationFourteenKeepsEveryMetricInOneBTree) {
+  ASSERT_TRUE(store_->Insert(NewJob("j-1")).ok());
+  RunSuccess run;
+  run.series_columns = {"time_s"};
+  run.series_values = {0.0};
+  run.metrics = {{"k", 2.5}, {"q", -1.0}};
+  ASSERT_TRUE(
+      store_->RecordSuccess("j-1", ClaimWithCheckpoints("j-1", {}), run, nullptr, 3, 50).ok());
+  store_.reset();
+  RawExec(std::string(kWithoutV14) + "PRAGMA user_version = 13;");
+  const std::string kAutoindex =
+      "SELECT count(*) FROM sqlite_master WHERE name = 'sqlite_autoindex_results_1'";
+  ASSERT_EQ(RawText(kAutoindex), "1");  // what v13 had: a rowid table and its key's index
+  ASSERT_NO_FATAL_FAILURE(ReopenAfter(""));
+  EXPECT_EQ(RawText(kAutoindex), "0");
+  EXPECT_NE(RawText("SELECT sql FROM sqlite_master WHERE name = 'results'").find("WITHOUT ROWID"),
+            std::string::npos);
+  const std::vector<std::pair<std::string, double>> expected = {{"k", 2.5}, {"q", -1.0}};
+  EXPECT_EQ(store_->Get("j-1")->metrics, expected);
+
+  ASSERT_TRUE(store_->Insert(NewJob("j-2")).ok());
+  run.metrics = {{"z", 7.0}, {"a", 1.0}};
+  ASSERT_TRUE(
+      store_->RecordSuccess("j-2", ClaimWithCheckpoints("j-2", {}), run, nullptr, 3, 60).ok());
+  const std::vector<std::pair<std::string, double>> sorted = {{"a", 1.0}, {"z", 7.0}};
+  EXPECT_EQ(store_->Get("j-2")->metrics, sorted);
+  ASSERT_TRUE(store_->Delete("j-1").ok());
+  EXPECT_EQ(RawText("SELECT count(*) FROM results"), "2");  // j-1's went with it
 }
 
 // A failing statement: the Status names the operation and SQLite's generic reason, never the SQL

@@ -542,7 +542,7 @@ PRAGMA user_version=1;
   ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(stmt, 0), JobStore::kSchemaVersion);
-  EXPECT_EQ(JobStore::kSchemaVersion, 13);
+  EXPECT_EQ(JobStore::kSchemaVersion, 14);
   sqlite3_finalize(stmt);
   sqlite3_close(db);
 }
