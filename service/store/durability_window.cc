@@ -67,9 +67,8 @@ void DurabilityWindow::Loop(const std::stop_token& stop) {
   while (changed_.wait(lock, stop, [&] { return oldest_pending_.has_value(); })) {
     // Sleeps out the window of the oldest commit (a Flush meanwhile may cover it first).
     const auto due = *oldest_pending_ + window_;
-    if (changed_.wait_until(lock, stop, due, [] { return false; }) || stop.stop_requested()) {
-      return;  // the destructor flushes
-    }
+    changed_.wait_until(lock, stop, due, [] { return false; });
+    if (stop.stop_requested()) return;  // the destructor flushes
     if (auto s = SyncLocked(lock); !s.ok()) core::Logger()->error("{}", s.ToString());
   }
 }
