@@ -3,8 +3,9 @@
 // A run of seepd's own workers that succeeds commits its final state, series and outcome without
 // an fsync (JobStore's CommitSync::kWindowed). Its thread then fdatasyncs the WAL file once the
 // oldest of those commits has waited `window`, so one fsync covers every success of that window:
-// a sweep of short jobs ends two hundred a second on two cores, and an fsync each cost 0.14 ms of
-// CPU a job (of a 10 ms job) in I/O submissions and interrupts. A durable commit in
+// a sweep of short jobs ends two hundred a second on two cores; an fsync each cost about 0.1 ms of
+// CPU a job (of a 10 ms job) in I/O submissions and interrupts on a virtual disk, and on a disk
+// whose flush takes milliseconds it would hold each ending that long. A durable commit in
 // between makes them durable sooner (the WAL is synced in order, SQLite's own syncs included).
 //
 // Syncing the WAL through a descriptor of our own is sound on Linux: fdatasync writes every dirty
