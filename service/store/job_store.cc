@@ -353,7 +353,6 @@ Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
 
 std::uint64_t JobStore::WindowedSyncs() const { return durability_window_->syncs(); }
 bool JobStore::WindowedCommitPending() const { return durability_window_->pending(); }
-Status JobStore::FlushWindowedCommits() { return durability_window_->Flush(); }
 
 JobStore::JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir)
     : db_(std::move(db)), data_dir_(std::move(data_dir)) {}

@@ -216,12 +216,10 @@ class JobStore {
                                                       const CheckpointRecord* final_checkpoint,
                                                       std::uint32_t keep, std::int64_t now_ms,
                                                       CommitSync sync = CommitSync::kDurable);
-  // Windowed commits synced so far by the durability window (each covers all before it), and
-  // whether one waits: for tests and the service's metrics.
+  // The durability window's syncs so far (each covers every windowed commit before it), and
+  // whether a windowed commit waits for one.
   std::uint64_t WindowedSyncs() const;
   bool WindowedCommitPending() const;
-  // Syncs the windowed commits now, instead of at the end of their window.
-  Status FlushWindowedCommits();
   // The job's event log, oldest first (the store adds SUBMITTED, CHECKPOINT, the outcome and
   // the other state changes it makes itself). Adding to a job that does not exist is NOT_FOUND.
   Status AddEvent(const std::string& id, std::int64_t at_ms, const std::string& kind,
