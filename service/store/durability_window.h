@@ -43,7 +43,6 @@ class DurabilityWindow {
   // Syncs now what has been committed so far (no-op when nothing is pending).
   core::Status Flush();
 
-  std::chrono::milliseconds window() const { return window_; }
   // fdatasyncs done so far, and whether a windowed commit waits for one.
   std::uint64_t syncs() const;
   bool pending() const;

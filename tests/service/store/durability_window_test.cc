@@ -1,6 +1,6 @@
 // DurabilityWindow: one fdatasync of the WAL covers every windowed commit of its window, no
 // sooner than the window and within it; a flush syncs at once; stopping does not wait the window.
-// And through JobStore: a windowed success is synced by the window, a durable one needs none.
+// (Through JobStore: SuccessStore.AWindowedSuccessIsSyncedByTheWindowAndADurableOneNeedsNone.)
 #include "store/durability_window.h"
 
 #include <gtest/gtest.h>
@@ -10,8 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <thread>
-
-#include "store/job_store_fixture.h"
 
 namespace seep::service {
 namespace {
@@ -87,45 +85,6 @@ TEST_F(DurabilityWindowTest, StoppingDoesNotWaitForTheWindow) {
   const auto start = Clock::now();
   window->reset();
   EXPECT_LT(Clock::now() - start, std::chrono::seconds(30));
-}
-
-class WindowedSuccess : public JobStoreTest {
- protected:
-  std::int64_t Claim() {
-    auto claimed = store_->ClaimNextQueued("w", 100, 1'000'000);
-    EXPECT_TRUE(claimed.ok() && claimed->has_value());
-    return claimed.ok() && claimed->has_value() ? (*claimed)->lease_epoch : 0;
-  }
-  static RunSuccess Success() {
-    RunSuccess run;
-    run.series_columns = {"time_s"};
-    run.series_values = {0.5};
-    run.state_sha256 = std::string(64, 'c');
-    run.final_progress = JobProgress::At(3, 0.5, 1.0, 0);
-    run.metrics = {{"k", 2.5}};
-    return run;
-  }
-};
-
-TEST_F(WindowedSuccess, IsSyncedByTheStoresWindowAndADurableOneNeedsNone) {
-  ASSERT_TRUE(store_->Insert(NewJob("durable")).ok());
-  ASSERT_TRUE(store_->RecordSuccess("durable", Claim(), Success(), nullptr, 1, 200).ok());
-  EXPECT_FALSE(store_->WindowedCommitPending());
-  EXPECT_EQ(store_->WindowedSyncs(), 0u);
-
-  ASSERT_TRUE(store_->Insert(NewJob("windowed")).ok());
-  ASSERT_TRUE(
-      store_->RecordSuccess("windowed", Claim(), Success(), nullptr, 1, 300, CommitSync::kWindowed)
-          .ok());
-  const auto give_up = Clock::now() + std::chrono::minutes(1);
-  while (store_->WindowedCommitPending() && Clock::now() < give_up) {
-    std::this_thread::sleep_for(milliseconds(5));
-  }
-  EXPECT_FALSE(store_->WindowedCommitPending());
-  EXPECT_EQ(store_->WindowedSyncs(), 1u);
-  auto job = store_->Get("windowed");
-  ASSERT_TRUE(job.ok());
-  EXPECT_EQ(job->state, JobState::kSucceeded);
 }
 
 }  // namespace

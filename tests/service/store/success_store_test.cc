@@ -2,7 +2,9 @@
 // hash, progress, metrics and SUCCEEDED in one transaction, or nothing.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "store/checkpoint_io.h"
@@ -167,6 +169,28 @@ TEST_F(SuccessStore, ARecordsBytesAreVerifiedAsAFilesAre) {
   EXPECT_NE(corrupt.status().message().find("ckpt-000000000030.bin (in the store)"),
             std::string::npos)
       << corrupt.status().message();
+}
+
+// A durable success needs no sync of the window; a windowed one is synced by it, once.
+TEST_F(SuccessStore, AWindowedSuccessIsSyncedByTheWindowAndADurableOneNeedsNone) {
+  ASSERT_TRUE(store_->Insert(NewJob("durable")).ok());
+  ASSERT_TRUE(store_->RecordSuccess("durable", Claim("durable"), Success(), nullptr, 1, 200).ok());
+  EXPECT_FALSE(store_->WindowedCommitPending());
+  EXPECT_EQ(store_->WindowedSyncs(), 0u);
+
+  ASSERT_TRUE(store_->Insert(NewJob("windowed")).ok());
+  ASSERT_TRUE(store_
+                  ->RecordSuccess("windowed", Claim("windowed"), Success(), nullptr, 1, 300,
+                                  CommitSync::kWindowed)
+                  .ok());
+  // Within JobStore::kDurabilityWindow; a minute allows for sanitizer builds on a busy machine.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+  while (store_->WindowedCommitPending() && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_FALSE(store_->WindowedCommitPending());
+  EXPECT_EQ(store_->WindowedSyncs(), 1u);
+  EXPECT_EQ(store_->Get("windowed")->state, JobState::kSucceeded);
 }
 
 }  // namespace
