@@ -10,8 +10,9 @@
 //
 // Syncing the WAL through a descriptor of our own is sound on Linux: fdatasync writes every dirty
 // page of the file (its inode), whoever wrote it. SQLite never truncates or deletes the WAL while
-// the store's connection is open (no journal_size_limit, no TRUNCATE checkpoint; it deletes the
-// file only when its last connection closes, after that connection's final checkpoint).
+// the store's connection is open (no journal_size_limit, no TRUNCATE checkpoint, the
+// WalCheckpointer's included; it deletes the file only when its last connection closes, after
+// that connection's final checkpoint, and the checkpointer's connection closes first).
 #pragma once
 
 #include <chrono>

@@ -8,6 +8,7 @@
 
 #include "job_store_internal.h"
 #include "sqlite_handle.h"
+#include "wal_checkpointer.h"
 
 namespace seep::service {
 namespace {
@@ -348,6 +349,8 @@ Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
   // SQLite names the WAL after the database; reading in WAL mode (Migrate did) created it.
   SEEP_ASSIGN_OR_RETURN(store->durability_window_,
                         DurabilityWindow::Open(path + "-wal", kDurabilityWindow));
+  SEEP_ASSIGN_OR_RETURN(store->wal_checkpointer_,
+                        WalCheckpointer::Start(store->db_->handle(), path));
   return store;
 }
 

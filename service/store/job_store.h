@@ -24,6 +24,7 @@
 namespace seep::service {
 
 class Db;
+class WalCheckpointer;
 class Stmt;
 using core::Result;
 using core::Status;
@@ -326,6 +327,8 @@ class JobStore {
   // After db_: destroyed first, so that it syncs what is pending while the connection (which
   // keeps the WAL file) is still open.
   std::unique_ptr<DurabilityWindow> durability_window_;
+  // After durability_window_: unhooked and stopped first, while db_ is open.
+  std::unique_ptr<WalCheckpointer> wal_checkpointer_;
 };
 
 }  // namespace seep::service

@@ -93,6 +93,8 @@ class Db {
   // Runs one statement without parameters, through the cache (BEGIN, COMMIT, a pragma).
   Status Run(std::string_view sql);
   std::int64_t Changes() const { return sqlite3_changes64(db_.get()); }
+  // The connection itself, for what this class does not wrap (a WAL hook).
+  sqlite3* handle() const { return db_.get(); }
 
  private:
   struct Closer {
