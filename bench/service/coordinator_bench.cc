@@ -13,7 +13,7 @@
 //   seep_coordinator_bench [--part all|load|throughput] [--load-seconds 30] [--workers 100]
 //                          [--queued 10000] [--sweep-jobs 1000] [--lanes 2] [--sweep-on both]
 //                          [--sweep-columns 40] [--sweep-rows 40] [--sweep-end-time-s 3.1484e-3]
-//                          [--sweep-trials 3] [--sweep-slice-s 1] [--dir PATH] [--keep]
+//                          [--sweep-trials 5] [--sweep-slice-s 1] [--dir PATH] [--keep]
 #include "coordinator_bench.h"
 
 #include <unistd.h>

@@ -43,7 +43,7 @@ struct CoordinatorOptions {
   std::uint32_t sweep_rows = 40;
   double sweep_end_time_s = 3.1484e-3;   // about 1,500 explicit steps
   double throughput_ratio_limit = 0.90;  // on the median of the trials' ratios
-  int sweep_trials = 3;
+  int sweep_trials = 5;
   double sweep_slice_s = 1.0;  // the service and the in-process run take turns
 
   bool keep = false;  // keep the scratch folder
