@@ -45,6 +45,7 @@
 
 #include "codec/scene_codec.h"
 #include "coordinator_bench.h"
+#include "jobs/wall_clock.h"
 #include "seep/core/run/simulation.h"
 #include "seep/core/threads.h"
 #include "service_bench.h"
@@ -154,12 +155,6 @@ bool Drained(v1::SeepService::Stub& stub) {
   return stub.ListJobs(&ctx, request, &response).ok() && response.jobs().empty();
 }
 
-std::int64_t SystemMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 // Stops (SIGSTOP) or continues (SIGCONT) seepd and the workers at once.
 void SignalAll(Seepd& seepd, const std::vector<ChildProcess>& workers, int signal) {
   ::kill(seepd.process().pid(), signal);
@@ -206,7 +201,7 @@ std::optional<ServiceRun> RunSliced(const CoordinatorOptions& options, const v1:
   // The system clock, as seepd's timestamps: protobuf's TimeUtil::GetCurrentTime() has whole
   // seconds in Debian's build, which put up to a second of nothing into the service's time.
   std::vector<Slice> slices(1);
-  slices.back().start_ms = SystemMs();
+  slices.back().start_ms = service::NowMs();
   const double seepd_cpu_start = local ? seepd_cpu_before_submit : seepd.process().CpuSeconds();
   std::vector<ChildProcess> workers;
   for (int w = 0; w < (local ? 0 : options.lanes); ++w) {
@@ -222,7 +217,7 @@ std::optional<ServiceRun> RunSliced(const CoordinatorOptions& options, const v1:
     std::this_thread::sleep_until(slice_start + slice_length);
     const bool drained = Drained(*stub);
     SignalAll(seepd, workers, SIGSTOP);
-    slices.back().stop_ms = SystemMs();
+    slices.back().stop_ms = service::NowMs();
     if (drained) break;
     // Forty times the in-process run's time for the sweep (known after its first slice).
     const double patience_s =
@@ -235,7 +230,7 @@ std::optional<ServiceRun> RunSliced(const CoordinatorOptions& options, const v1:
       return std::nullopt;
     }
     RunInProcessSlice(scenes, options.lanes, options.sweep_slice_s, in_process);
-    slices.push_back({SystemMs(), 0});
+    slices.push_back({service::NowMs(), 0});
     SignalAll(seepd, workers, SIGCONT);
   }
   SignalAll(seepd, workers, SIGCONT);
@@ -382,20 +377,15 @@ bool SweepThroughput(const CoordinatorOptions& options) {
     const char* where = on_local ? "local" : "remote";
     const double median = Median(list);
     // The limit is on local workers; remote ones alone are judged by it too.
-    if (on_local || options.sweep_on == "remote") {
-      const bool ratio_met = median >= options.throughput_ratio_limit;
-      met = met && ratio_met;
-      std::printf(
-          "median     %s workers / in process = %.3f over %zu trial(s) (%s)   %s (limit: >= "
-          "%.2f)\n",
-          where, median, list.size(), Listed(list).c_str(), Verdict(ratio_met),
-          options.throughput_ratio_limit);
-    } else {
-      std::printf(
-          "median     %s workers / in process = %.3f over %zu trial(s) (%s; no limit: the "
-          "issue's is on local workers)\n",
-          where, median, list.size(), Listed(list).c_str());
-    }
+    const bool judged = on_local || options.sweep_on == "remote";
+    const bool ratio_met = median >= options.throughput_ratio_limit;
+    if (judged) met = met && ratio_met;
+    const std::string verdict = judged
+                                    ? fmt::format(")   {} (limit: >= {:.2f})", Verdict(ratio_met),
+                                                  options.throughput_ratio_limit)
+                                    : "; no limit: the issue's is on local workers)";
+    std::printf("median     %s workers / in process = %.3f over %zu trial(s) (%s%s\n", where,
+                median, list.size(), Listed(list).c_str(), verdict.c_str());
   }
   std::printf("part 2     %s\n", Verdict(met));
   return met;

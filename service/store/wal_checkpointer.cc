@@ -62,9 +62,12 @@ int WalCheckpointer::Hook(void* self, sqlite3* db, const char* schema, int pages
   auto* checkpointer = static_cast<WalCheckpointer*>(self);
   if (pages >= checkpointer->inline_pages_) {
     // The same call SQLite's automatic checkpoint makes; on this connection, inside the commit.
-    (void)sqlite3_wal_checkpoint_v2(db, schema, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
-    std::lock_guard lock(checkpointer->mutex_);
-    ++checkpointer->inline_checkpoints_;
+    // Counted, as the thread's, only when it ran (a failure is left for the next commit).
+    if (sqlite3_wal_checkpoint_v2(db, schema, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr) ==
+        SQLITE_OK) {
+      std::lock_guard lock(checkpointer->mutex_);
+      ++checkpointer->inline_checkpoints_;
+    }
     return SQLITE_OK;
   }
   if (pages >= checkpointer->pages_) {
