@@ -190,12 +190,11 @@ std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t /
 
 // Capacities V_s / K_f and rates K_f / V_s (as 1 / capacity) of domains [lo, hi), StorageVolumeOf
 // term by term, 0 for fixed domains and non-positive volumes: branch-free so that the divisions,
-// which bounded the refresh, vectorise. GCC if-converts the selects only when it may assume that
-// no floating-point trap is watched (none is: the values are the IEEE ones either way).
-[[gnu::optimize("no-trapping-math")]] void FillCapacitiesAndRates(
-    std::ptrdiff_t lo, std::ptrdiff_t hi, const double* __restrict volume,
-    const DomainRole* __restrict role, double factor, double floor, double bulk,
-    double* __restrict capacity, double* __restrict rate) {
+// which bounded the refresh, vectorise (GCC if-converts the selects because the core is built
+// with -fno-trapping-math, core/CMakeLists.txt).
+void FillCapacitiesAndRates(std::ptrdiff_t lo, std::ptrdiff_t hi, const double* __restrict volume,
+                            const DomainRole* __restrict role, double factor, double floor,
+                            double bulk, double* __restrict capacity, double* __restrict rate) {
 #pragma omp simd
   for (std::ptrdiff_t d = lo; d < hi; ++d) {
     const double vs = StorageVolumeFrom(volume[d], factor, floor);

@@ -6,7 +6,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -247,6 +249,40 @@ TEST(PressureForces, MajorArcPushesParticleAwayFromVoid) {
   // Away from the void: outwards from the ring centre, along the radius through the particle.
   const double radial = (fx[protruding] * cx + fy[protruding] * cy) / std::hypot(cx, cy);
   EXPECT_NEAR(radial, kVoidPressure * kR, 1e-12 * kVoidPressure * kR);
+}
+
+// The branch-free contact point (one division of selected operands) gives the bits of the two
+// rules written out with branches, as physics.md §2.5 states them, on random pairs: equal and
+// unequal radii, gaps, shallow and deep overlaps (clamped), coincident centres. Fails if a
+// select picks the other rule's operand or the clamp's order changes.
+TEST(PressureForces, ContactFractionIsTheTwoRulesBitForBit) {
+  const auto two_rules = [](double r_lo, double r_hi, double d2) {
+    if (!(d2 > 0.0)) return 0.5;
+    const double sum = r_lo + r_hi;
+    const double f = d2 < sum * sum ? 0.5 + (r_lo * r_lo - r_hi * r_hi) / (2.0 * d2)
+                                    : 0.5 + (r_lo - r_hi) / (2.0 * std::sqrt(d2));
+    return std::clamp(f, 0.0, 1.0);
+  };
+  std::mt19937_64 rng(20261205);
+  std::uniform_real_distribution<double> radius(0.1, 2.0), reach(0.0, 1.6);
+  int overlaps = 0, gaps = 0, clamped = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double r_lo = radius(rng);
+    const double r_hi = k % 10 == 0 ? r_lo : radius(rng);
+    const double d = k % 1000 == 0 ? 0.0 : reach(rng) * (r_lo + r_hi);
+    const double d2 = d * d;
+    const double expected = two_rules(r_lo, r_hi, d2);
+    const double got = ContactFraction(r_lo, r_hi, d2);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(expected))
+        << "r_lo " << r_lo << " r_hi " << r_hi << " d2 " << d2;
+    overlaps += d2 < (r_lo + r_hi) * (r_lo + r_hi);
+    gaps += !(d2 < (r_lo + r_hi) * (r_lo + r_hi));
+    clamped += expected == 0.0 || expected == 1.0;
+  }
+  // Every branch of the reference was taken.
+  EXPECT_GT(overlaps, 1000);
+  EXPECT_GT(gaps, 1000);
+  EXPECT_GT(clamped, 100);
 }
 
 // The contact point: mid-gap when apart, on the radical line when overlapping, r_lo from centre

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -24,22 +25,36 @@ struct ContactArms {
   double bx = 0.0, by = 0.0;  // centre of b -> contact point
 };
 
+// c ? a : b on the bits, so that it compiles to a mask and no branch: GCC turns a ternary of
+// doubles into a jump, and sinks the operand only one side needs (a square root) behind it.
+inline double SelectBits(bool c, double a, double b) {
+  const std::uint64_t mask = 0 - static_cast<std::uint64_t>(c);
+  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) |
+                               (std::bit_cast<std::uint64_t>(b) & ~mask));
+}
+
 // Fraction of the way from centre lo to centre hi at which the contact point lies, in [0, 1].
 // d2 = squared centre distance (0 gives 1/2: coincident centres have zero-length arms anyway).
 inline double ContactFraction(double r_lo, double r_hi, double d2) {
   if (!(d2 > 0.0)) return 0.5;
+  // Equal radii (lattices, monodisperse DEM): both rules give 0.5 + (+0)/(...) = 0.5 exactly, so
+  // the division, most of the work per contact there, is skipped. A branch that goes one way for
+  // a whole monodisperse or polydisperse packing.
+  if (r_lo == r_hi) return 0.5;
+  // Overlap: the radical line, 0.5 + (r_lo^2 - r_hi^2) / (2 d2); a gap: mid-gap,
+  // 0.5 + (r_lo - r_hi) / (2 d). Both operands selected, one division: whether a loop contact
+  // overlaps or holds a gap changes from contact to contact in a settled packing, and a branch
+  // on it was mispredicted about every other contact (the same bits either way).
   const double sum = r_lo + r_hi;
-  double f;
-  if (d2 < sum * sum) {
-    // Radical line; for equal radii the formula gives 0.5 + (+0)/(2 d2) = 0.5 exactly, so the
-    // division (most of the work per contact of a monodisperse packing) is skipped.
-    f = r_lo == r_hi ? 0.5 : 0.5 + (r_lo * r_lo - r_hi * r_hi) / (2.0 * d2);
-  } else {
-    // Mid-gap; equal radii (lattices, monodisperse DEM) need no square root.
-    f = r_lo == r_hi ? 0.5 : 0.5 + (r_lo - r_hi) / (2.0 * std::sqrt(d2));
-  }
-  // Deep overlaps can put the radical line beyond a centre; the point stays on the segment.
-  return std::clamp(f, 0.0, 1.0);
+  const bool overlap = d2 < sum * sum;
+  const double distance = std::sqrt(d2);
+  const double numerator = SelectBits(overlap, r_lo * r_lo - r_hi * r_hi, r_lo - r_hi);
+  const double denominator = 2.0 * SelectBits(overlap, d2, distance);
+  double f = 0.5 + numerator / denominator;
+  // Deep overlaps can put the radical line beyond a centre; the point stays on the segment
+  // (std::clamp's result, as selects).
+  f = f < 0.0 ? 0.0 : f;
+  return 1.0 < f ? 1.0 : f;
 }
 
 // Arms of particles a and b (ids into `p`, unchecked).

@@ -13,10 +13,8 @@
 namespace seep::core {
 
 // V_s of a domain of volume v (its V_d or V_p, as the model says), m^2: std::max(factor v, floor)
-// written on values, so that a loop of it vectorises (std::max returns a reference). Always
-// inlined: GCC does not inline it into the explicit solver's no-trapping-math pass otherwise (the
-// options differ), and that pass then stops vectorising.
-[[gnu::always_inline]] inline double StorageVolumeFrom(double v, double factor, double floor) {
+// written on values, so that a loop of it vectorises (std::max returns a reference).
+inline double StorageVolumeFrom(double v, double factor, double floor) {
   const double scaled = factor * v;
   return scaled < floor ? floor : scaled;
 }
