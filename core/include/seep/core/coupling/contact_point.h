@@ -11,7 +11,6 @@
 // telescope, which is what makes a uniform pressure give zero net force (V14).
 #pragma once
 
-#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -52,7 +51,7 @@ inline double ContactFraction(double r_lo, double r_hi, double d2) {
   const double denominator = 2.0 * SelectBits(overlap, d2, distance);
   double f = 0.5 + numerator / denominator;
   // Deep overlaps can put the radical line beyond a centre; the point stays on the segment
-  // (std::clamp's result, as selects).
+  // (std::clamp(f, 0, 1) written out: a branch rarely taken).
   f = f < 0.0 ? 0.0 : f;
   return 1.0 < f ? 1.0 : f;
 }
