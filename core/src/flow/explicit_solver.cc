@@ -330,7 +330,8 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   if (threads > 1 && owner_threads_ != threads) IndexPipesByShare(network, threads);
   const std::int32_t* __restrict owner_start = owner_start_.data();
   const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
-  std::vector<CriticalTimeStep> share_limit(static_cast<std::size_t>(threads));
+  share_limit_.assign(static_cast<std::size_t>(threads), CriticalTimeStep{});
+  CriticalTimeStep* share_limit = share_limit_.data();
   bool any_non_positive = false;
   // The accumulator starts at zero (the sources are set below), and the step's gains are
   // computed by the first Step (gain_dt_ = -1).
@@ -417,7 +418,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
     }
   }
   limit_ = CriticalTimeStep{};
-  for (const CriticalTimeStep& least : share_limit) {
+  for (const CriticalTimeStep& least : share_limit_) {
     if (least.dt_crit < limit_.dt_crit) limit_ = least;
   }
   sources_.clear();

@@ -101,6 +101,8 @@ class ExplicitSolver {
   std::vector<double> rate_;      // K_f / V_s (0 for fixed), 1/(Pa s) per m^2.
   std::vector<double> capacity_;  // V_s / K_f (0 for fixed), m^2/Pa.
   std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
+  // Per share of a refresh: its least dt_i (a member, so that a refresh allocates nothing).
+  std::vector<CriticalTimeStep> share_limit_;
   // Per thread share of the domains (contiguous blocks, CSR): the pipes touching it, ascending;
   // built for owner_threads_ threads on the topology of topology_stamp_ (0: not built).
   int owner_threads_ = 0;
