@@ -331,7 +331,6 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const std::int32_t* __restrict owner_start = owner_start_.data();
   const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
   share_limit_.assign(static_cast<std::size_t>(threads), CriticalTimeStep{});
-  CriticalTimeStep* share_limit = share_limit_.data();
   bool any_non_positive = false;
   // The accumulator starts at zero (the sources are set below), and the step's gains are
   // computed by the first Step (gain_dt_ = -1).
@@ -393,7 +392,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
           least.limiting_conductance_sum = sum;
         }
       }
-      share_limit[static_cast<std::size_t>(t)] = least;
+      share_limit_[static_cast<std::size_t>(t)] = least;
       // The sources: most scenes have none, and a branch-free count says so without the scan.
       std::fill(inflow + lo, inflow + hi, 0.0);
       double share_sources = 0.0;
