@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "dem_parallel.h"
 
@@ -101,9 +102,11 @@ double DemContactForces::PackDisks(const DemParticles& p) {
   return max_d2;
 }
 
-Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff) {
-  cand_i_.clear();
-  cand_j_.clear();
+Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff,
+                                            std::vector<std::int32_t>* cand_i,
+                                            std::vector<std::int32_t>* cand_j) {
+  cand_i->clear();
+  cand_j->clear();
   const std::size_t n = p.size();
   if (n == 0) return Status::Ok();
   double rmax = 0.0;
@@ -130,8 +133,8 @@ Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff
     });
     std::sort(row_candidates_.begin(), row_candidates_.end());
     for (std::int32_t j : row_candidates_) {
-      cand_i_.push_back(static_cast<std::int32_t>(i));
-      cand_j_.push_back(j);
+      cand_i->push_back(static_cast<std::int32_t>(i));
+      cand_j->push_back(j);
     }
   }
   return Status::Ok();
@@ -150,7 +153,9 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
   }
   // Pairs up to flow_gap farther than the skin, so that CollectFlowContacts stays complete up to
   // flow_gap until the next rebuild (walls need no such margin).
-  SEEP_RETURN_IF_ERROR(FindCandidatePairs(*p, cutoff + settings_.flow_gap));
+  // The candidates live only as long as the rebuild: between rebuilds the table is all there is.
+  std::vector<std::int32_t> cand_i, cand_j;
+  SEEP_RETURN_IF_ERROR(FindCandidatePairs(*p, cutoff + settings_.flow_gap, &cand_i, &cand_j));
 
   // Drop the bonds that broke (already reported) so that bond indices stay dense.
   {
@@ -173,22 +178,33 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
 
   // New pair table = candidates merged with the bonds (a bonded pair stays listed however far it
   // moves), carrying the shear history of pairs that were already listed.
+  const std::size_t nc = cand_i.size(), nb = bond_i_.size(), no = pairs_.size();
+  // Most bonded pairs are candidates too: the table holds their union, counted first so that it
+  // is allocated at its size (nc + nb would double a bonded packing's table).
+  std::size_t union_size = 0;
+  for (std::size_t c = 0, b = 0; c < nc || b < nb; ++union_size) {
+    if (b >= nb || (c < nc && KeyLess(cand_i[c], cand_j[c], bond_i_[b], bond_j_[b]))) {
+      ++c;
+    } else {
+      if (c < nc && cand_i[c] == bond_i_[b] && cand_j[c] == bond_j_[b]) ++c;
+      ++b;
+    }
+  }
   std::vector<PairEntry> fresh;
-  fresh.reserve(cand_i_.size() + bond_i_.size());
+  fresh.reserve(union_size);
   std::size_t c = 0, b = 0, o = 0;
-  const std::size_t nc = cand_i_.size(), nb = bond_i_.size(), no = pairs_.size();
   while (c < nc || b < nb) {
     PairEntry e{};
     e.bond = -1;
-    if (b >= nb || (c < nc && KeyLess(cand_i_[c], cand_j_[c], bond_i_[b], bond_j_[b]))) {
-      e.i = cand_i_[c];
-      e.j = cand_j_[c];
+    if (b >= nb || (c < nc && KeyLess(cand_i[c], cand_j[c], bond_i_[b], bond_j_[b]))) {
+      e.i = cand_i[c];
+      e.j = cand_j[c];
       ++c;
     } else {
       e.i = bond_i_[b];
       e.j = bond_j_[b];
       e.bond = static_cast<std::int32_t>(b);
-      if (c < nc && cand_i_[c] == e.i && cand_j_[c] == e.j) ++c;
+      if (c < nc && cand_i[c] == e.i && cand_j[c] == e.j) ++c;
       ++b;
     }
     while (o < no && KeyLess(pairs_[o].i, pairs_[o].j, e.i, e.j)) ++o;
@@ -490,11 +506,13 @@ Result<std::size_t> DemContactForces::BondTouchingPairs(DemParticles* particles,
                            std::to_string(tolerance) + ")");
   }
   // gap < nextafter(tol) is gap <= tol.
+  std::vector<std::int32_t> cand_i, cand_j;
   SEEP_RETURN_IF_ERROR(FindCandidatePairs(
-      *particles, std::nextafter(tolerance, std::numeric_limits<double>::infinity())));
+      *particles, std::nextafter(tolerance, std::numeric_limits<double>::infinity()), &cand_i,
+      &cand_j));
   bond_params_ = params;
-  bond_i_ = cand_i_;
-  bond_j_ = cand_j_;
+  bond_i_ = std::move(cand_i);
+  bond_j_ = std::move(cand_j);
   const std::size_t nb = bond_i_.size();
   bond_half_width_.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
@@ -585,8 +603,7 @@ std::size_t DemContactForces::MemoryBytes() const {
          Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
          Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +
          Bytes(wall_loads_) + Bytes(wall_extents_) + Bytes(ref_x_) + Bytes(ref_y_) +
-         Bytes(ref_wall_x_) + Bytes(ref_wall_y_) + Bytes(cand_i_) + Bytes(cand_j_) +
-         grid_.MemoryBytes() + Bytes(row_candidates_);
+         Bytes(ref_wall_x_) + Bytes(ref_wall_y_) + grid_.MemoryBytes() + Bytes(row_candidates_);
 }
 
 }  // namespace seep::core

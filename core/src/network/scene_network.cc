@@ -157,6 +157,20 @@ FlowNetworkData DomainsAndInteriorPipes(const SceneSpec& scene, SceneNetwork& ne
   const DomainNetwork& d = net.domains;
   const std::size_t nodes = d.num_domains() + reservoirs;
   FlowNetworkData data;
+  // Reserved for what the callers add (a node per drained wall; a pipe per boundary pipe at
+  // most), so that no array doubles its capacity, and holds it for the run, by growing.
+  const std::size_t max_nodes = nodes + net.walls.size();
+  for (std::vector<double>* v : {&data.apparent_volume, &data.pore_volume, &data.pressure,
+                                 &data.source_rate}) {
+    v->reserve(max_nodes);
+  }
+  data.role.reserve(max_nodes);
+  const std::size_t max_pipes = d.num_pipes() + d.num_boundary_pipes();
+  data.pipe_domain_a.reserve(max_pipes);
+  data.pipe_domain_b.reserve(max_pipes);
+  data.pipe_length.reserve(max_pipes);
+  gaps.reserve(max_pipes);
+  net.pipe_contact.reserve(net.pipe_contact.size() + max_pipes);
   data.apparent_volume.assign(d.apparent_volume.begin(), d.apparent_volume.end());
   data.pore_volume.assign(d.pore_volume.begin(), d.pore_volume.end());
   data.apparent_volume.resize(nodes, 0.0);

@@ -97,12 +97,12 @@ class DomainVolumeUpdater {
   std::vector<double> loop_theta0_, outer_theta0_;
   // Radii and sector sums per face at Bind.
   std::vector<double> bind_radius_, bind_loop_sector_, bind_outer_sector_;
+  // Per edge, 1/R of its particles at Bind (the lens series needs h/R): streamed, where a
+  // per-particle array would cost two more gathers an edge.
+  std::vector<double> edge_inv_r_lo_, edge_inv_r_hi_;
   // Scratch of Compute (so Compute allocates nothing; one updater per thread).
   mutable std::vector<double> edge_term_;
   mutable std::vector<double> loop_sector_, outer_sector_;  // Sectors() for other radii
-  mutable std::vector<double> edge_slow_;  // per edge: 1 if it needs atan2 or LensArea
-  mutable std::vector<double> edge_dx_, edge_dy_, edge_rlo_, edge_rhi_;  // gathered per edge
-  std::vector<double> edge_inv_r_lo_, edge_inv_r_hi_;  // 1/R at Bind (the lens series needs h/R)
 };
 
 // change[d] = after[d] - before[d] (all three of equal size; InvalidArgument otherwise).

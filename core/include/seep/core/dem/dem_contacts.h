@@ -183,8 +183,9 @@ class DemContactForces {
   // Lists the walls within `cutoff` (the skin) and the pairs within cutoff + flow_gap.
   Status Rebuild(DemParticles* p, const std::vector<DemWall>& walls, double cutoff,
                  DemCounters* counters);
-  // Candidate pairs (i < j, sorted) with gap < cutoff into cand_i_, cand_j_.
-  Status FindCandidatePairs(const DemParticles& p, double cutoff);
+  // Candidate pairs (i < j, sorted) with gap < cutoff into cand_i, cand_j.
+  Status FindCandidatePairs(const DemParticles& p, double cutoff, std::vector<std::int32_t>* cand_i,
+                            std::vector<std::int32_t>* cand_j);
   // Computes every pair into its slot (from packed_), gathers the slots into the particles.
   void ComputePairForces(DemParticles* p, double dt, bool overwrite, DemCounters* counters);
   void ComputeWallForces(DemParticles* p, const std::vector<DemWall>& walls, double dt,
@@ -256,8 +257,7 @@ class DemContactForces {
   std::vector<double> ref_x_, ref_y_;
   std::vector<double> ref_wall_x_, ref_wall_y_;
 
-  // Rebuild scratch (kept to avoid reallocations).
-  std::vector<std::int32_t> cand_i_, cand_j_;
+  // Rebuild scratch (kept to avoid reallocations; the candidate pairs are not: see Rebuild).
   CellGrid grid_;
   std::vector<std::int32_t> row_candidates_;
 };
