@@ -132,12 +132,23 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
   }
   terms_ = std::move(terms);
   num_slots_ = num_domains + network.outer_particles.size();
-  side_start_.assign(num_particles + 1, 0);
+  num_ids_ = num_particles;
+  // The threaded path's sides are made again, for these contacts, by its first Apply.
+  sides_built_ = false;
+  side_start_.clear();
+  side_items_.clear();
+  side_fx_.clear();
+  side_fy_.clear();
+  return Status::Ok();
+}
+
+void PressureForceKernel::BuildSides() const {
+  side_start_.assign(num_ids_ + 1, 0);
   for (const ContactTerms& t : terms_) {
     ++side_start_[static_cast<std::size_t>(t.lo) + 1];
     ++side_start_[static_cast<std::size_t>(t.hi) + 1];
   }
-  for (std::size_t i = 0; i < num_particles; ++i) side_start_[i + 1] += side_start_[i];
+  for (std::size_t i = 0; i < num_ids_; ++i) side_start_[i + 1] += side_start_[i];
   side_items_.resize(2 * terms_.size());
   std::vector<std::int32_t> fill(side_start_.begin(), side_start_.end() - 1);
   for (std::size_t t = 0; t < terms_.size(); ++t) {
@@ -148,7 +159,7 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
   }
   side_fx_.assign(2 * terms_.size(), 0.0);
   side_fy_.assign(2 * terms_.size(), 0.0);
-  return Status::Ok();
+  sides_built_ = true;
 }
 
 namespace {
@@ -200,6 +211,7 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
   }
   // Threads: the forces into per-side slots, then each particle adds its slots one by one in
   // ascending contact order: the same additions in the same order as above, so the same bits.
+  if (!sides_built_) BuildSides();
   double* side_x = side_fx_.data();
   double* side_y = side_fy_.data();
   const std::int32_t* start = side_start_.data();

@@ -508,5 +508,36 @@ TEST(PressureForces, KernelGivesTheSameBitsOnAnyThreadCount) {
   omp_set_num_threads(before);
 }
 
+// The threaded path's per-particle lists are made by its first call after a Bind: bound again to
+// another network after a threaded call, the kernel must not use the old network's lists (its
+// contacts and particles differ in number), and the threads must still give the one-thread bits.
+TEST(PressureForces, KernelBoundAgainMakesItsThreadedListsAgain) {
+  const int before = omp_get_max_threads();
+  PressureForceKernel kernel;
+  const auto forces = [&](const Detected& d, int threads) {
+    const std::size_t n = d.packing.size();
+    std::vector<double> slot(kernel.num_slots());
+    for (std::size_t k = 0; k < slot.size(); ++k) slot[k] = 1e3 * static_cast<double>(k % 17);
+    std::vector<double> fx(n, 0.0), fy(n, 0.0);
+    omp_set_num_threads(threads);
+    kernel.Apply(ViewOf(d.packing), slot.data(), fx.data(), fy.data());
+    fx.insert(fx.end(), fy.begin(), fy.end());
+    return fx;
+  };
+  const Detected first = Detect(coupling_test::Hex(80, 80, 1.0), 1e-2);
+  ASSERT_TRUE(kernel.Bind(first.domains, first.packing.size()).ok());
+  const std::vector<double> first_one = forces(first, 1);
+  EXPECT_EQ(forces(first, 2), first_one);
+  const Detected second = Detect(coupling_test::Hex(96, 72, 1.0), 1e-2);
+  ASSERT_NE(second.packing.size(), first.packing.size());
+  ASSERT_TRUE(kernel.Bind(second.domains, second.packing.size()).ok());
+  ASSERT_GT(kernel.num_contacts(), 8192u) << "small enough for the one-thread path";
+  const std::vector<double> second_two = forces(second, 2);
+  const std::vector<double> second_one = forces(second, 1);
+  EXPECT_EQ(second_two, second_one);
+  EXPECT_NE(second_one, std::vector<double>(second_one.size(), 0.0)) << "the forces are not all 0";
+  omp_set_num_threads(before);
+}
+
 }  // namespace
 }  // namespace seep::core

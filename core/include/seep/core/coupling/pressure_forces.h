@@ -74,7 +74,7 @@ class PressureForceKernel {
   Status Bind(const DomainNetwork& network, std::size_t num_particles);
   // Adds the forces for the bound network; slot_pressure has num_slots() entries, fx and fy one
   // per particle (sizes are the caller's duty: this is the hot path). Uses the kernel's scratch:
-  // one kernel per calling thread.
+  // one kernel per calling thread. On threads, the first call after a Bind allocates it.
   void Apply(const ParticleView& particles, const double* slot_pressure, double* fx,
              double* fy) const;
   // Where the forces go when the loops name wall vertices (domain_walls.h): ids below
@@ -99,11 +99,18 @@ class PressureForceKernel {
     std::int32_t forward_lo, backward_lo;  // slots: F1 on lo's arc, F2 on lo's arc
     std::int32_t backward_hi, forward_hi;  // slots: F2 on hi's arc, F1 on hi's arc
   };
+  // The threaded path's per-particle lists and slots for the bound contacts.
+  void BuildSides() const;
+
   std::vector<ContactTerms> terms_;
   std::size_t num_slots_ = 0;
+  std::size_t num_ids_ = 0;  // particles (and wall vertices) Bind took
+  // What only the threaded path uses, made by its first Apply after a Bind: a run on one thread
+  // never holds them (40 bytes a contact and 4 a particle).
+  mutable bool sides_built_ = false;
   // Per particle, its contact sides (2 x contact + 0 for lo, 1 for hi) in ascending order (CSR).
-  std::vector<std::int32_t> side_start_, side_items_;
-  // Scratch of Apply: the force on each contact side.
+  mutable std::vector<std::int32_t> side_start_, side_items_;
+  // The force on each contact side.
   mutable std::vector<double> side_fx_, side_fy_;
 };
 
