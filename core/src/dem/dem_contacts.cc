@@ -547,6 +547,19 @@ void DemContactForces::CollectFlowContacts(double max_gap, ContactList* out) con
   }
 }
 
+bool DemContactForces::FlowContactsAre(double max_gap, std::span<const std::int32_t> i,
+                                       std::span<const std::int32_t> j) const {
+  if (i.size() != j.size()) return false;
+  std::size_t m = 0;
+  for (const PairEntry& e : pairs_) {
+    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
+    if (!(e.gap <= max_gap) && !bonded) continue;  // CollectFlowContacts' rule
+    if (m == i.size() || e.i != i[m] || e.j != j[m]) return false;
+    ++m;
+  }
+  return m == i.size();
+}
+
 Status DemContactForces::FindPairs(std::span<const std::int32_t> i, std::span<const std::int32_t> j,
                                    std::vector<std::int32_t>* index) const {
   if (i.size() != j.size()) {

@@ -410,6 +410,21 @@ void ExpectFlowContacts(const DemContactForces& contacts, double max_gap, double
     // a few ulps of 3.
     EXPECT_NEAR(list.gap[c], expected[c].gap, 1e-14) << c;
   }
+  // FlowContactsAre, the check without the list: true for exactly this list, false for one pair
+  // less, one more, or one other.
+  EXPECT_TRUE(contacts.FlowContactsAre(max_gap, list.i, list.j)) << "max_gap " << max_gap;
+  std::vector<std::int32_t> i = list.i, j = list.j;
+  i.push_back(1000);
+  j.push_back(1001);
+  EXPECT_FALSE(contacts.FlowContactsAre(max_gap, i, j)) << "one more, max_gap " << max_gap;
+  if (list.size() == 0) return;
+  i.resize(list.size() - 1);
+  j.resize(list.size() - 1);
+  EXPECT_FALSE(contacts.FlowContactsAre(max_gap, i, j)) << "one less, max_gap " << max_gap;
+  i = list.i;
+  j = list.j;
+  j.back() += 1;
+  EXPECT_FALSE(contacts.FlowContactsAre(max_gap, i, j)) << "one other, max_gap " << max_gap;
 }
 
 TEST(DemContactState, FlowContactsAreTheNearAndTheBondedPairs) {

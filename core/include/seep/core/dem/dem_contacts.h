@@ -135,6 +135,10 @@ class DemContactForces {
   // max_gap <= settings().flow_gap (with a larger max_gap some pairs are silently missing).
   // Before the first force pass the list is empty.
   void CollectFlowContacts(double max_gap, ContactList* out) const;
+  // Whether CollectFlowContacts(max_gap) would list exactly the pairs (i[m], j[m]), in order,
+  // without making the list.
+  bool FlowContactsAre(double max_gap, std::span<const std::int32_t> i,
+                       std::span<const std::int32_t> j) const;
   // The disk-wall contacts the flow coupling treats as feet of wall pores (domain_walls.h): every
   // listed (particle, wall) whose gap at the last force pass is <= max_gap with the centre on the
   // wall's side (gap > -radius), sorted, with that gap and (if normal_force is given) the normal
