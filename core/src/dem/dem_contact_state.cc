@@ -351,10 +351,9 @@ Status DemContactForces::RestoreState(const DemContactState& s, std::size_t part
 
   // Derived and scratch, sized as the last rebuild of the saved object left them: packed_ must
   // have one entry per particle or the next pass would rebuild early (NeedsRebuild), which would
-  // change the results; the gather lists follow from the pair table.
-  slots_.assign(np, PairSlot{});
+  // change the results; the threaded pass makes its gather lists from the pair table.
   packed_.assign(particle_count, PackedDisk{});
-  BuildGatherLists(particle_count);
+  gather_ready_ = false;
   return Status::Ok();
 }
 

@@ -1,6 +1,8 @@
 // Neighbour list, contact and bond forces of the DEM (see dem_contacts.h for the design).
 #include "seep/core/dem/dem_contacts.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -218,10 +220,8 @@ Status DemContactForces::Rebuild(DemParticles* p, const std::vector<DemWall>& wa
     fresh.push_back(e);
   }
   pairs_.swap(fresh);
-  const std::size_t np = pairs_.size();
-  slots_.assign(np, PairSlot{});
   packed_.resize(n);
-  BuildGatherLists(n);
+  gather_ready_ = false;  // the threaded pass makes its lists for this table
 
   // Wall candidates, keyed (particle, wall), with their history carried over.
   {
@@ -292,10 +292,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
   const double lx = settings_.lx;
   const double kn = settings_.law.kn, kt = settings_.law.kt, mu = settings_.law.friction;
   PairEntry* __restrict pairs = pairs_.data();
-  PairSlot* __restrict slots = slots_.data();
   PackedDisk* __restrict packed = packed_.data();
-  const std::int32_t* __restrict start = gather_start_.data();
-  const std::int32_t* __restrict items = gather_items_.data();
   double* __restrict fx = particles->fx.data();
   double* __restrict fy = particles->fy.data();
   double* __restrict tq = particles->torque.data();
@@ -304,76 +301,116 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
   const double* bwidth = bond_half_width_.data();
   const BondParams bp = bond_params_;
   std::uint64_t touching = 0, bond_evals = 0;
-  // One parallel region, two loops (pairs, then the gather that needs all of them).
-#pragma omp parallel if (np >= dem_internal::kMinParallelItems)
-  {
-#pragma omp for schedule(static) reduction(+ : touching, bond_evals)
-    for (std::ptrdiff_t k = 0; k < np; ++k) {
-      PairEntry& e = pairs[k];
-      const PackedDisk a = packed[e.i];
-      const PackedDisk b = packed[e.j];
-      const double dx = NearestImage(b.x - a.x, periodic, lx);
-      const double dy = b.y - a.y;
-      const double rs = a.r + b.r;
-      // Coincident centres have no normal; the floor keeps the arithmetic finite.
-      const double r2 = std::max(dx * dx + dy * dy, 1e-300);
-      const double r = std::sqrt(r2);
-      const double inv_r = 1.0 / r;
-      const double nx = dx * inv_r, ny = dy * inv_r;
-      const double gap = r - rs;
-      const double dvx = b.vx - a.vx, dvy = b.vy - a.vy;
-      const double vn = dvx * nx + dvy * ny;
-      const double vt = dvy * nx - dvx * ny - (a.omega * a.r + b.omega * b.r);
-      // Branch-free: every listed pair runs the law, open ones are multiplied by 0 (their history
-      // is thereby reset). About a third of the pairs are open, at random: a branch mispredicts.
-      const bool touch = gap < 0.0;
-      touching += touch ? 1u : 0u;
-      const double on = touch ? 1.0 : 0.0;
-      const ContactForce f =
-          EvaluateLinearContact(-gap, vn, vt, e.damping, kn, kt, mu, e.shear, dt);
-      double fnc = on * f.fn, ftc = on * f.ft, moment = 0.0;
-      e.shear = ftc;
-      if constexpr (kBonds) {
-        const std::int32_t bi = e.bond;
-        if (bi >= 0 && bfail[bi] == BondFailure::kNone) {
-          ++bond_evals;
-          BondState& st = bstate[bi];
-          const BondFailure failure = UpdateBond(bp, bwidth[bi], vn, vt, a.omega, b.omega, dt, &st);
-          if (failure != BondFailure::kNone) {
-            bfail[bi] = failure;  // one bond per pair entry: no other thread writes it
-          } else {
-            fnc += st.fn;
-            ftc += st.fs;
-            moment = st.moment;
-          }
+  // Pair k's contact law (and bond): updates its entry, returns its force on i. The counters are
+  // the caller's (a thread's own copies on a team).
+  const auto evaluate = [&](std::ptrdiff_t k, std::uint64_t& touched,
+                            std::uint64_t& bonds_evaluated) -> PairSlot {
+    PairEntry& e = pairs[k];
+    const PackedDisk a = packed[e.i];
+    const PackedDisk b = packed[e.j];
+    const double dx = NearestImage(b.x - a.x, periodic, lx);
+    const double dy = b.y - a.y;
+    const double rs = a.r + b.r;
+    // Coincident centres have no normal; the floor keeps the arithmetic finite.
+    const double r2 = std::max(dx * dx + dy * dy, 1e-300);
+    const double r = std::sqrt(r2);
+    const double inv_r = 1.0 / r;
+    const double nx = dx * inv_r, ny = dy * inv_r;
+    const double gap = r - rs;
+    const double dvx = b.vx - a.vx, dvy = b.vy - a.vy;
+    const double vn = dvx * nx + dvy * ny;
+    const double vt = dvy * nx - dvx * ny - (a.omega * a.r + b.omega * b.r);
+    // Branch-free: every listed pair runs the law, open ones are multiplied by 0 (their history
+    // is thereby reset). About a third of the pairs are open, at random: a branch mispredicts.
+    const bool touch = gap < 0.0;
+    touched += touch ? 1u : 0u;
+    const double on = touch ? 1.0 : 0.0;
+    const ContactForce f = EvaluateLinearContact(-gap, vn, vt, e.damping, kn, kt, mu, e.shear, dt);
+    double fnc = on * f.fn, ftc = on * f.ft, moment = 0.0;
+    e.shear = ftc;
+    if constexpr (kBonds) {
+      const std::int32_t bi = e.bond;
+      if (bi >= 0 && bfail[bi] == BondFailure::kNone) {
+        ++bonds_evaluated;
+        BondState& st = bstate[bi];
+        const BondFailure failure = UpdateBond(bp, bwidth[bi], vn, vt, a.omega, b.omega, dt, &st);
+        if (failure != BondFailure::kNone) {
+          bfail[bi] = failure;  // one bond per pair entry: no other thread writes it
+        } else {
+          fnc += st.fn;
+          ftc += st.fs;
+          moment = st.moment;
         }
       }
-      e.fn = fnc;
-      e.gap = gap;
-      slots[k] = PairSlot{-fnc * nx - ftc * ny, -fnc * ny + ftc * nx, ftc, moment};
     }
-#pragma omp for schedule(static)
+    e.fn = fnc;
+    e.gap = gap;
+    return PairSlot{-fnc * nx - ftc * ny, -fnc * ny + ftc * nx, ftc, moment};
+  };
+  // What particle i gets from its sums over its pairs: the same expressions on both paths.
+  const auto write = [&](std::ptrdiff_t i, double ax, double ay, double ft, double m) {
+    const double torque = packed[i].r * ft + m;
+    if (overwrite) {  // loop-invariant: the compiler unswitches it
+      fx[i] = ax;
+      fy[i] = ay;
+      tq[i] = torque;
+    } else {
+      fx[i] += ax;
+      fy[i] += ay;
+      tq[i] += torque;
+    }
+  };
+  if (!(np >= dem_internal::kMinParallelItems && omp_get_max_threads() > 1)) {
+    // One thread: each pair adds to the sums of its two particles straight away, in ascending
+    // pair order, which is the order of the gather below: the same additions, the same bits,
+    // without a slot per pair (32 bytes) or the gather lists (8 bytes a pair).
+    if (sums_.size() != static_cast<std::size_t>(n)) sums_.assign(static_cast<std::size_t>(n), {});
+    PairSums* __restrict sums = sums_.data();
+    for (std::ptrdiff_t k = 0; k < np; ++k) {
+      const PairSlot sl = evaluate(k, touching, bond_evals);
+      PairSums& si = sums[pairs[k].i];
+      si.fx += sl.fx;
+      si.fy += sl.fy;
+      si.ft += sl.ft;
+      if constexpr (kBonds) si.m += sl.m;
+      PairSums& sj = sums[pairs[k].j];
+      sj.fx += -1.0 * sl.fx;  // the gather's sign x slot: exact
+      sj.fy += -1.0 * sl.fy;
+      sj.ft += sl.ft;
+      if constexpr (kBonds) sj.m += -1.0 * sl.m;
+    }
     for (std::ptrdiff_t i = 0; i < n; ++i) {
-      double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
-      for (std::int32_t g = start[i]; g < start[i + 1]; ++g) {
-        const std::int32_t it = items[g];
-        const bool side_i = it >= 0;
-        const PairSlot& sl = slots[side_i ? it : ~it];
-        const double sign = side_i ? 1.0 : -1.0;  // exact: x (+-1) only flips the sign
-        ax += sign * sl.fx;
-        ay += sign * sl.fy;
-        ft += sl.ft;
-        if constexpr (kBonds) m += sign * sl.m;
-      }
-      const double torque = packed[i].r * ft + m;
-      if (overwrite) {  // loop-invariant: the compiler unswitches it
-        fx[i] = ax;
-        fy[i] = ay;
-        tq[i] = torque;
-      } else {
-        fx[i] += ax;
-        fy[i] += ay;
-        tq[i] += torque;
+      write(i, sums[i].fx, sums[i].fy, sums[i].ft, sums[i].m);
+      sums[i] = PairSums{};  // zero for the next pass
+    }
+  } else {
+    if (!gather_ready_) {
+      slots_.resize(pairs_.size());
+      BuildGatherLists(p.size());
+      gather_ready_ = true;
+    }
+    PairSlot* __restrict slots = slots_.data();
+    const std::int32_t* __restrict start = gather_start_.data();
+    const std::int32_t* __restrict items = gather_items_.data();
+    // One parallel region, two loops (pairs, then the gather that needs all of them).
+#pragma omp parallel
+    {
+#pragma omp for schedule(static) reduction(+ : touching, bond_evals)
+      for (std::ptrdiff_t k = 0; k < np; ++k) slots[k] = evaluate(k, touching, bond_evals);
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) {
+        double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
+        for (std::int32_t g = start[i]; g < start[i + 1]; ++g) {
+          const std::int32_t it = items[g];
+          const bool side_i = it >= 0;
+          const PairSlot& sl = slots[side_i ? it : ~it];
+          const double sign = side_i ? 1.0 : -1.0;  // exact: x (+-1) only flips the sign
+          ax += sign * sl.fx;
+          ay += sign * sl.fy;
+          ft += sl.ft;
+          if constexpr (kBonds) m += sign * sl.m;
+        }
+        write(i, ax, ay, ft, m);
       }
     }
   }
@@ -611,7 +648,7 @@ void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* ou
 }
 
 std::size_t DemContactForces::MemoryBytes() const {
-  return Bytes(pairs_) + Bytes(slots_) + Bytes(packed_) + Bytes(gather_start_) +
+  return Bytes(pairs_) + Bytes(slots_) + Bytes(sums_) + Bytes(packed_) + Bytes(gather_start_) +
          Bytes(gather_items_) + Bytes(bond_i_) + Bytes(bond_j_) + Bytes(bond_half_width_) +
          Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
          Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +

@@ -22,8 +22,10 @@
 //
 // Determinism and threads. Forces are computed per pair in parallel into per-pair slots; then each
 // particle sums its own pairs in ascending pair order (no atomics, no thread-dependent sums):
-// results are bit-identical for any OpenMP thread count. Wall contacts and bond-break bookkeeping
-// are serial (they are few).
+// results are bit-identical for any OpenMP thread count. On one thread each pair adds to its two
+// particles' sums as it is computed, in ascending pair order too: the same additions, without
+// the slots and gather lists (40 bytes a pair), which only a pass on threads makes. Wall contacts
+// and bond-break bookkeeping are serial (they are few).
 //
 // Flow coupling. After AddForces: CollectContacts() lists contacts with their normal force F
 // (> 0 compression) and gap g (> 0 open, for bonded pairs that have separated), and
@@ -221,7 +223,8 @@ class DemContactForces {
     double fn;            // normal force of the last evaluation (contact + bond)
     double gap;           // gap of the last evaluation
   };
-  // Per-pair results, filled in parallel then gathered per particle.
+  // Per-pair results, filled in parallel then gathered per particle (and the value a pair's
+  // evaluation returns on one thread).
   struct PairSlot {
     double fx, fy;  // force on i (-f on j)
     double ft;      // tangential force: torque R_i ft on i, R_j ft on j
@@ -236,11 +239,19 @@ class DemContactForces {
   Status Evaluate(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
                   bool overwrite, DemCounters* counters);
 
+  // One particle's sums over its pairs on the one-thread path (zero between passes).
+  struct PairSums {
+    double fx = 0.0, fy = 0.0, ft = 0.0, m = 0.0;
+  };
+
   // Pair table (neighbour list + contact state), sorted by (i, j).
   std::vector<PairEntry> pairs_;
-  std::vector<PairSlot> slots_;
   std::vector<PackedDisk> packed_;
-  // Per-particle CSR of pair entries in ascending pair order: k for side i, ~k for side j.
+  std::vector<PairSums> sums_;  // one thread: per particle
+  // Threads: the slots and the per-particle CSR of pair entries in ascending pair order (k for
+  // side i, ~k for side j), made by the first pass on threads after a rebuild or restore.
+  bool gather_ready_ = false;
+  std::vector<PairSlot> slots_;
   std::vector<std::int32_t> gather_start_, gather_items_;
 
   // Bonds, sorted by (bond_i_, bond_j_); broken ones are dropped at the next rebuild.
