@@ -160,8 +160,8 @@ FlowNetworkData DomainsAndInteriorPipes(const SceneSpec& scene, SceneNetwork& ne
   // Reserved for what the callers add (a node per drained wall; a pipe per boundary pipe at
   // most), so that no array doubles its capacity, and holds it for the run, by growing.
   const std::size_t max_nodes = nodes + net.walls.size();
-  for (std::vector<double>* v : {&data.apparent_volume, &data.pore_volume, &data.pressure,
-                                 &data.source_rate}) {
+  for (std::vector<double>* v :
+       {&data.apparent_volume, &data.pore_volume, &data.pressure, &data.source_rate}) {
     v->reserve(max_nodes);
   }
   data.role.reserve(max_nodes);

@@ -469,9 +469,9 @@ TEST(PressureForces, BoundKernelMatchesAddPressureForcesBitForBit) {
   }
 }
 
-// Threads: each takes a share of the particles and the contacts touching it; the forces must be
-// the one-thread bits on any thread count, in a team smaller than asked for (one thread taking
-// every share), and with the last ids written to the wall-vertex arrays across the shares.
+// Threads: the forces go to per-side slots, then each particle adds its own in contact order; the
+// forces must be the one-thread bits on any thread count, in a team smaller than asked for, and
+// with the last ids written to the wall-vertex arrays.
 TEST(PressureForces, KernelGivesTheSameBitsOnAnyThreadCount) {
   const Detected d = Detect(coupling_test::Hex(80, 80, 1.0), 1e-2);
   const std::size_t n = d.packing.size();
