@@ -576,8 +576,7 @@ void DemContactForces::CollectContacts(std::vector<DemContactRecord>* out) const
 void DemContactForces::CollectFlowContacts(double max_gap, ContactList* out) const {
   out->Clear();
   for (const PairEntry& e : pairs_) {
-    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
-    if (!(e.gap <= max_gap) && !bonded) continue;
+    if (!IsFlowContact(e, max_gap)) continue;
     out->i.push_back(e.i);
     out->j.push_back(e.j);
     out->gap.push_back(e.gap);
@@ -589,8 +588,7 @@ bool DemContactForces::FlowContactsAre(double max_gap, std::span<const std::int3
   if (i.size() != j.size()) return false;
   std::size_t m = 0;
   for (const PairEntry& e : pairs_) {
-    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
-    if (!(e.gap <= max_gap) && !bonded) continue;  // CollectFlowContacts' rule
+    if (!IsFlowContact(e, max_gap)) continue;
     if (m == i.size() || e.i != i[m] || e.j != j[m]) return false;
     ++m;
   }

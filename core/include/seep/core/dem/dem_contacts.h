@@ -234,6 +234,11 @@ class DemContactForces {
   struct PackedDisk {
     double x, y, vx, vy, omega, r;
   };
+  // The rule of CollectFlowContacts and FlowContactsAre: near (gap <= max_gap) or bonded.
+  bool IsFlowContact(const PairEntry& e, double max_gap) const {
+    const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
+    return e.gap <= max_gap || bonded;
+  }
   template <bool kBonds>
   void PairForcesKernel(DemParticles* particles, double dt, bool overwrite, DemCounters* counters);
   Status Evaluate(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
