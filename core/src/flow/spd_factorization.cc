@@ -2,7 +2,10 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <optional>
 #include <string>
+
+#include "supernodal_refactorization.h"
 
 namespace seep::core {
 
@@ -42,11 +45,20 @@ std::string InfoName(Eigen::ComputationInfo info) {
 }
 }  // namespace
 
+// Eigen's CHOLMOD wrapper with its factor in reach, for the replayed refactorization.
+class CholmodSupernodal : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
+ public:
+  cholmod_factor* factor() { return m_cholmodFactor; }
+};
+
 // Both Eigen wrappers are neither copyable nor movable (CHOLMOD keeps a pointer into its
 // common block), hence the heap indirection.
 struct SpdFactorization::Impl {
   std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>> ldlt;
-  std::unique_ptr<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>> cholmod;
+  std::unique_ptr<CholmodSupernodal> cholmod;
+  // CHOLMOD's numeric factorization replayed for this pattern (supernodal_refactorization.h):
+  // planned after the pattern's first factorization by CHOLMOD, dropped by Analyze.
+  std::optional<SupernodalRefactorization> replay;
   bool analyzed = false;
   bool factorized = false;
 };
@@ -60,12 +72,13 @@ SpdFactorization& SpdFactorization::operator=(SpdFactorization&&) noexcept = def
 
 Status SpdFactorization::Analyze(const SparseMatrix& lower) {
   impl_->analyzed = impl_->factorized = false;
+  impl_->replay.reset();
   // The factorization for this pattern's size (kAuto), made anew only when the kind changes.
   active_kind_ = ResolvedLinearSolverKind(kind_, lower.rows());
   if (active_kind_ == LinearSolverKind::kCholmodSupernodal) {
     impl_->ldlt.reset();
     if (!impl_->cholmod) {
-      impl_->cholmod = std::make_unique<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>();
+      impl_->cholmod = std::make_unique<CholmodSupernodal>();
     }
   } else {
     impl_->cholmod.reset();
@@ -93,8 +106,20 @@ Status SpdFactorization::Factorize(const SparseMatrix& lower) {
   impl_->factorized = false;
   Eigen::ComputationInfo info;
   if (impl_->cholmod) {
+    // The replay gives CHOLMOD's bits. A matrix it finds not positive definite goes to CHOLMOD
+    // itself, which reports the failure; the plan is then made again after CHOLMOD's next
+    // success, so that Eigen's wrapper holds the state of a good factorization again.
+    if (impl_->replay && impl_->replay->Refactorize(lower, *impl_->cholmod->factor())) {
+      impl_->factorized = true;
+      ++replayed_factorizations_;
+      return Status::Ok();
+    }
+    impl_->replay.reset();
     impl_->cholmod->factorize(lower);
     info = impl_->cholmod->info();
+    if (info == Eigen::Success) {
+      impl_->replay = SupernodalRefactorization::Plan(*impl_->cholmod->factor(), lower);
+    }
   } else {
     impl_->ldlt->factorize(lower);
     info = impl_->ldlt->info();

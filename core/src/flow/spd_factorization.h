@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <cstdint>
 #include <memory>
 
 #include "seep/core/flow/linear_solver_kind.h"
@@ -27,6 +28,10 @@ class SpdFactorization {
   Status Factorize(const SparseMatrix& lower);
   Status Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
 
+  // Factorizations done by replaying CHOLMOD's arithmetic from a plan of the pattern
+  // (supernodal_refactorization.h) rather than by CHOLMOD itself.
+  std::int64_t replayed_factorizations() const { return replayed_factorizations_; }
+
   LinearSolverKind kind() const { return kind_; }
   // The factorization in use since the last Analyze (kind() itself unless that is kAuto).
   LinearSolverKind active_kind() const { return active_kind_; }
@@ -36,6 +41,7 @@ class SpdFactorization {
   LinearSolverKind kind_;
   LinearSolverKind active_kind_;
   std::unique_ptr<Impl> impl_;
+  std::int64_t replayed_factorizations_ = 0;
 };
 
 }  // namespace seep::core::flow_internal
