@@ -145,6 +145,11 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
 bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_factor& L) {
   static constexpr double kOne = 1.0;
   static constexpr double kZero = 0.0;
+  // Not the planned pattern (a caller's contract broken): CHOLMOD itself, which plans again.
+  if (lower.nonZeros() != nonzeros_ || lower.rows() != static_cast<Eigen::Index>(L.n) ||
+      !lower.isCompressed()) {
+    return false;
+  }
   double* lx = static_cast<double*>(L.x);
   std::fill(lx, lx + factor_size_, 0.0);
   const double* values = lower.valuePtr();

@@ -30,8 +30,8 @@ class SupernodalRefactorization {
                                                        const SparseMatrix& lower);
 
   // Factorizes `lower` (the planned pattern, new values) into L->x. False if the matrix is not
-  // positive definite; L->x is then undefined and the caller lets CHOLMOD factorize it (which
-  // reports the failure and its column the way CHOLMOD does).
+  // positive definite, or not of the planned size; L->x is then undefined and the caller lets
+  // CHOLMOD factorize it (which reports a failure and its column the way CHOLMOD does).
   bool Refactorize(const SparseMatrix& lower, cholmod_factor_struct& L);
 
  private:
