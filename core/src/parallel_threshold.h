@@ -6,6 +6,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <utility>
 
@@ -22,9 +23,62 @@ inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
 // libgomp make a team of one and end it with a futex wake, about 0.2 us and a system call a
 // region. A step of a small explicit job entered one such region (1,500 a job of a sweep, about
 // 3 % of its time). A loop of a line or two is written twice (a parallel for and a plain one); a
-// longer block goes through RunOnCoreThreads. The DEM's loops and the vectorised coefficient,
-// aperture and volume-change passes still use the clause (see RunOnCoreThreads for why).
+// longer block goes through RunOnCoreThreads, a loop over a range through ForEachShare (and its
+// sum and maximum forms).
 inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && omp_get_max_threads() > 1; }
+
+// The calling team member's share of `n` items, [first, second): contiguous and in thread order,
+// as schedule(static) hands them out.
+inline std::pair<std::ptrdiff_t, std::ptrdiff_t> ThreadShare(std::ptrdiff_t n) {
+  const std::ptrdiff_t t = omp_get_thread_num();
+  const std::ptrdiff_t team = omp_get_num_threads();
+  return {n * t / team, n * (t + 1) / team};
+}
+
+// Runs `range(begin, end)` over [0, n): once per team member on its share when OnTeam(n), else
+// once over [0, n) with no region. `range` is a loop over its bounds, best a call of a function
+// whose pointer parameters are __restrict, with `#pragma omp simd` where the loop vectorises:
+// the closure then costs nothing (see RunOnCoreThreads), and a run on one thread, or a small
+// scene on any, pays no region (a team of one costs 1.2 us and a system call on the 2-core VM).
+template <class Range>
+inline void ForEachShare(std::ptrdiff_t n, Range&& range) {
+  if (!OnTeam(n)) {
+    range(std::ptrdiff_t{0}, n);
+    return;
+  }
+#pragma omp parallel
+  {
+    const auto [begin, end] = ThreadShare(n);
+    range(begin, end);
+  }
+}
+
+// The same for a range that returns a count of whole numbers (in a double): their sum, exact in
+// any order, so the same on any thread count.
+template <class Range>
+inline double SumOverShares(std::ptrdiff_t n, Range&& range) {
+  if (!OnTeam(n)) return range(std::ptrdiff_t{0}, n);
+  double sum = 0.0;
+#pragma omp parallel reduction(+ : sum)
+  {
+    const auto [begin, end] = ThreadShare(n);
+    sum += range(begin, end);
+  }
+  return sum;
+}
+
+// The same for a range that returns a maximum (of values >= 0): exact in any order.
+template <class Range>
+inline double MaxOverShares(std::ptrdiff_t n, Range&& range) {
+  if (!OnTeam(n)) return range(std::ptrdiff_t{0}, n);
+  double largest = 0.0;
+#pragma omp parallel reduction(max : largest)
+  {
+    const auto [begin, end] = ThreadShare(n);
+    largest = std::max(largest, range(begin, end));
+  }
+  return largest;
+}
 
 // Runs `body`, whose loops are orphaned `omp for` constructs, on a team when OnTeam(n), else
 // inline on this thread with no region (its loops then run every iteration in order, as on a

@@ -75,29 +75,18 @@ Result<ContactApertureReport> ContactApertureUpdater::Update(FlowNetwork& networ
   return UpdatePerPipe(network, pipe_force_, pipe_gap_);
 }
 
-Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
-    FlowNetwork& network, std::span<const double> pipe_force, std::span<const double> pipe_gap) {
-  const std::size_t num_pipes = network.num_pipes();
-  SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
-  if (pipe_force.size() != num_pipes || pipe_gap.size() != num_pipes) {
-    return InvalidArgument("coupling.contact_apertures: pipe_force and pipe_gap have " +
-                           std::to_string(pipe_force.size()) + " and " +
-                           std::to_string(pipe_gap.size()) + " entries, expected " +
-                           std::to_string(num_pipes) + " (one per pipe)");
-  }
-  const double* __restrict current = network.pipe_aperture().data();
-  const double* __restrict force = pipe_force.data();
-  const double* __restrict gap = pipe_gap.data();
-  const double* __restrict keep = keep_.data();
-  double* __restrict out = aperture_.data();
-  const ApertureLaw law = law_;
-  // Branch-free so that it vectorises (Aperture selects between its branches). The counts are
-  // sums of 0s and 1s: exact in any order, so threads change no bit.
+namespace {
+
+// The law's apertures of the pipes [begin, end) into `out` (a pipe to keep keeps `current`); adds
+// how many changed and how many had a force or gap that is not finite.
+void LawRange(std::ptrdiff_t begin, std::ptrdiff_t end, const ApertureLaw law,
+              const double* __restrict current, const double* __restrict force,
+              const double* __restrict gap, const double* __restrict keep, double* __restrict out,
+              double* changed_count, double* bad_count) {
+  // Branch-free so that it vectorises (Aperture selects between its branches).
   double changed = 0.0, bad = 0.0;
-  const auto n = static_cast<std::ptrdiff_t>(num_pipes);
-#pragma omp parallel for simd schedule(static) reduction(+ : changed, bad) \
-    if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t p = 0; p < n; ++p) {
+#pragma omp simd reduction(+ : changed, bad)
+  for (std::ptrdiff_t p = begin; p < end; ++p) {
     const double f = force[p], g = gap[p];
     const bool finite =
         (keep[p] != 0.0) | (internal::FiniteBranchFree(f) & internal::FiniteBranchFree(g));
@@ -110,6 +99,40 @@ Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
     const double a = keep[p] != 0.0 ? current[p] : by_law;
     out[p] = a;
     changed += a != current[p] ? 1.0 : 0.0;
+  }
+  *changed_count += changed;
+  *bad_count += bad;
+}
+
+}  // namespace
+
+Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
+    FlowNetwork& network, std::span<const double> pipe_force, std::span<const double> pipe_gap) {
+  const std::size_t num_pipes = network.num_pipes();
+  SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
+  if (pipe_force.size() != num_pipes || pipe_gap.size() != num_pipes) {
+    return InvalidArgument("coupling.contact_apertures: pipe_force and pipe_gap have " +
+                           std::to_string(pipe_force.size()) + " and " +
+                           std::to_string(pipe_gap.size()) + " entries, expected " +
+                           std::to_string(num_pipes) + " (one per pipe)");
+  }
+  const double* current = network.pipe_aperture().data();
+  const double* force = pipe_force.data();
+  const double* gap = pipe_gap.data();
+  const double* keep = keep_.data();
+  double* out = aperture_.data();
+  const ApertureLaw law = law_;
+  // The counts are sums of 0s and 1s: exact in any order, so threads change no bit.
+  double changed = 0.0, bad = 0.0;
+  const auto n = static_cast<std::ptrdiff_t>(num_pipes);
+  if (!internal::OnTeam(n)) {
+    LawRange(0, n, law, current, force, gap, keep, out, &changed, &bad);
+  } else {
+#pragma omp parallel reduction(+ : changed, bad)
+    {
+      const auto [begin, end] = internal::ThreadShare(n);
+      LawRange(begin, end, law, current, force, gap, keep, out, &changed, &bad);
+    }
   }
   if (bad > 0.0) {
     for (std::size_t p = 0; p < num_pipes; ++p) {

@@ -80,28 +80,35 @@ bool DemContactForces::NeedsRebuild(const DemParticles& p,
   return false;
 }
 
-double DemContactForces::PackDisks(const DemParticles& p) {
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
-  const double* __restrict x = p.x.data();
-  const double* __restrict y = p.y.data();
-  const double* __restrict vx = p.vx.data();
-  const double* __restrict vy = p.vy.data();
-  const double* __restrict w = p.omega.data();
-  const double* __restrict rad = p.radius.data();
-  const double* __restrict rx = ref_x_.data();
-  const double* __restrict ry = ref_y_.data();
-  PackedDisk* __restrict packed = packed_.data();
-  double max_d2 = 0.0;  // max is exact, so the reduction is thread-count independent
-#pragma omp parallel for schedule(static) \
-    reduction(max                         \
-              : max_d2) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    packed[i] = PackedDisk{x[i], y[i], vx[i], vy[i], w[i], rad[i]};
+namespace {
+
+// Packs [begin, end) of the disks and returns the largest squared drift from the reference
+// positions there (Disk: DemContactForces' packed disk).
+template <class Disk>
+double PackRange(std::ptrdiff_t begin, std::ptrdiff_t end, const double* __restrict x,
+                 const double* __restrict y, const double* __restrict vx,
+                 const double* __restrict vy, const double* __restrict w,
+                 const double* __restrict rad, const double* __restrict rx,
+                 const double* __restrict ry, Disk* __restrict packed) {
+  double max_d2 = 0.0;
+  for (std::ptrdiff_t i = begin; i < end; ++i) {
+    packed[i] = Disk{x[i], y[i], vx[i], vy[i], w[i], rad[i]};
     const double dx = x[i] - rx[i];
     const double dy = y[i] - ry[i];
     max_d2 = std::max(max_d2, dx * dx + dy * dy);
   }
   return max_d2;
+}
+
+}  // namespace
+
+double DemContactForces::PackDisks(const DemParticles& p) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
+  // max is exact, so the result is thread-count independent.
+  return dem_internal::MaxOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    return PackRange(begin, end, p.x.data(), p.y.data(), p.vx.data(), p.vy.data(), p.omega.data(),
+                     p.radius.data(), ref_x_.data(), ref_y_.data(), packed_.data());
+  });
 }
 
 Status DemContactForces::FindCandidatePairs(const DemParticles& p, double cutoff,

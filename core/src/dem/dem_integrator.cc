@@ -9,40 +9,59 @@
 
 namespace seep::core {
 
-void AddGravity(DemParticles* p, double gx, double gy, DemCounters* counters) {
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
-  const double* m = p->mass.data();
-  double* fx = p->fx.data();
-  double* fy = p->fy.data();
-#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+// The loops over particles below run per share of the particles (dem_internal::ForEachShare):
+// on a team, or, on one thread or for a small scene, with no OpenMP region at all.
+namespace {
+
+void GravityRange(std::ptrdiff_t begin, std::ptrdiff_t end, double gx, double gy,
+                  const double* __restrict m, double* __restrict fx, double* __restrict fy) {
+  for (std::ptrdiff_t i = begin; i < end; ++i) {
     fx[i] += m[i] * gx;
     fy[i] += m[i] * gy;
   }
-  if (counters != nullptr) counters->gravity_applications += static_cast<std::uint64_t>(n);
 }
 
-namespace {
 // -alpha |f| sign(v), with sign(0) = 0 (a particle at rest is not pushed).
 inline double Damped(double f, double v, double alpha) {
   const double d = alpha * std::abs(f);
   return v > 0.0 ? f - d : (v < 0.0 ? f + d : f);
 }
+
+void DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, double* __restrict fx,
+                  double* __restrict fy, double* __restrict torque, const double* __restrict vx,
+                  const double* __restrict vy, const double* __restrict omega) {
+  for (std::ptrdiff_t i = begin; i < end; ++i) {
+    fx[i] = Damped(fx[i], vx[i], alpha);
+    fy[i] = Damped(fy[i], vy[i], alpha);
+    torque[i] = Damped(torque[i], omega[i], alpha);
+  }
+}
+
 }  // namespace
+
+void AddGravity(DemParticles* p, double gx, double gy, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+  dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    GravityRange(begin, end, gx, gy, p->mass.data(), p->fx.data(), p->fy.data());
+  });
+  if (counters != nullptr) counters->gravity_applications += static_cast<std::uint64_t>(n);
+}
 
 void ApplyLocalDamping(DemParticles* p, double alpha, DemCounters* counters) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
-#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    p->fx[i] = Damped(p->fx[i], p->vx[i], alpha);
-    p->fy[i] = Damped(p->fy[i], p->vy[i], alpha);
-    p->torque[i] = Damped(p->torque[i], p->omega[i], alpha);
-  }
+  dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    DampingRange(begin, end, alpha, p->fx.data(), p->fy.data(), p->torque.data(), p->vx.data(),
+                 p->vy.data(), p->omega.data());
+  });
   if (counters != nullptr) counters->local_damping_applications += static_cast<std::uint64_t>(n);
 }
 
-void IntegrateFirstHalf(DemParticles* p, double dt, DemCounters* counters) {
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+namespace {
+
+// A velocity-Verlet half kick over [begin, end) (fixed particles keep their velocities), and with
+// `drift` the drift of the positions by the new velocities.
+template <bool kDrift>
+void HalfStepRange(std::ptrdiff_t begin, std::ptrdiff_t end, double dt, DemParticles* p) {
   const double h = 0.5 * dt;
   double* __restrict x = p->x.data();
   double* __restrict y = p->y.data();
@@ -55,38 +74,33 @@ void IntegrateFirstHalf(DemParticles* p, double dt, DemCounters* counters) {
   const double* __restrict im = p->inv_mass.data();
   const double* __restrict ii = p->inv_inertia.data();
   const std::uint8_t* __restrict fixed = p->fixed.data();
-#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  for (std::ptrdiff_t i = begin; i < end; ++i) {
     if (!fixed[i]) {
       vx[i] += h * fx[i] * im[i];
       vy[i] += h * fy[i] * im[i];
       w[i] += h * t[i] * ii[i];
     }
-    x[i] += dt * vx[i];
-    y[i] += dt * vy[i];
+    if constexpr (kDrift) {
+      x[i] += dt * vx[i];
+      y[i] += dt * vy[i];
+    }
   }
+}
+
+}  // namespace
+
+void IntegrateFirstHalf(DemParticles* p, double dt, DemCounters* counters) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
+  dem_internal::ForEachShare(
+      n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) { HalfStepRange<true>(begin, end, dt, p); });
   if (counters != nullptr) counters->integrations += static_cast<std::uint64_t>(n);
 }
 
 void IntegrateSecondHalf(DemParticles* p, double dt, DemCounters* counters) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
-  const double h = 0.5 * dt;
-  double* __restrict vx = p->vx.data();
-  double* __restrict vy = p->vy.data();
-  double* __restrict w = p->omega.data();
-  const double* __restrict fx = p->fx.data();
-  const double* __restrict fy = p->fy.data();
-  const double* __restrict t = p->torque.data();
-  const double* __restrict im = p->inv_mass.data();
-  const double* __restrict ii = p->inv_inertia.data();
-  const std::uint8_t* __restrict fixed = p->fixed.data();
-#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (fixed[i]) continue;
-    vx[i] += h * fx[i] * im[i];
-    vy[i] += h * fy[i] * im[i];
-    w[i] += h * t[i] * ii[i];
-  }
+  dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    HalfStepRange<false>(begin, end, dt, p);
+  });
   if (counters != nullptr) counters->integrations += static_cast<std::uint64_t>(n);
 }
 

@@ -5,6 +5,8 @@
 
 namespace seep::core::dem_internal {
 
+using internal::ForEachShare;
 using internal::kMinParallelItems;
+using internal::MaxOverShares;
 
 }  // namespace seep::core::dem_internal

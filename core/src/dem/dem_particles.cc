@@ -1,6 +1,7 @@
 // Building the DEM particle state from a packing, and its bookkeeping.
 #include "seep/core/dem/dem_particles.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -11,15 +12,11 @@ namespace seep::core {
 
 void DemParticles::ClearForces() {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(size());
-  double* fxp = fx.data();
-  double* fyp = fy.data();
-  double* tp = torque.data();
-#pragma omp parallel for schedule(static) if (n >= dem_internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    fxp[i] = 0.0;
-    fyp[i] = 0.0;
-    tp[i] = 0.0;
-  }
+  dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    std::fill(fx.begin() + begin, fx.begin() + end, 0.0);
+    std::fill(fy.begin() + begin, fy.begin() + end, 0.0);
+    std::fill(torque.begin() + begin, torque.begin() + end, 0.0);
+  });
 }
 
 std::size_t DemParticles::MemoryBytes() const {

@@ -8,6 +8,37 @@
 #include "seep/core/log.h"
 
 namespace seep::core {
+
+namespace {
+
+// dV of the domains [begin, end) (not scaled by the storage factor: the disks are rigid, so all of
+// a domain's volume change is pore volume, physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt -
+// dV_d)); returns how many collapsed, branch-free.
+double VolumeChangeRange(std::ptrdiff_t begin, std::ptrdiff_t end, const double* __restrict before,
+                         const double* __restrict after, const DomainRole* __restrict role,
+                         double* __restrict change) {
+  double collapsed = 0.0;
+#pragma omp simd reduction(+ : collapsed)
+  for (std::ptrdiff_t d = begin; d < end; ++d) {
+    change[d] = after[d] - before[d];
+    collapsed += ((after[d] > 0.0) | (role[d] == DomainRole::kFixedPressure)) ? 0.0 : 1.0;
+  }
+  return collapsed;
+}
+
+// The network's live volumes of the domains [begin, end).
+void LiveVolumesRange(std::ptrdiff_t begin, std::ptrdiff_t end, bool pore,
+                      const double* __restrict apparent, const double* __restrict pore_now,
+                      double* __restrict live_apparent, double* __restrict live_pore) {
+#pragma omp simd
+  for (std::ptrdiff_t d = begin; d < end; ++d) {
+    live_apparent[d] = apparent[d];
+    live_pore[d] = pore ? pore_now[d] : std::min(live_pore[d], apparent[d]);
+  }
+}
+
+}  // namespace
+
 Status VolumeChangeEffect::Bind(LiveState& s, const EffectSet&) { return Rebind(s); }
 
 Status VolumeChangeEffect::Rebind(LiveState& s) {
@@ -43,15 +74,10 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   double* change = change_.data();
   // Per domain only: threads change no bit. A collapsed domain is counted branch-free and named
   // by a scan only when there is one.
-  double collapsed = 0.0;
-#pragma omp parallel for simd schedule(static) reduction(+ : collapsed) \
-    if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t d = 0; d < n; ++d) {
-    // Not scaled by the storage factor: the disks are rigid, so all of a domain's volume change
-    // is pore volume (physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt - dV_d)).
-    change[d] = after[d] - before[d];
-    collapsed += ((after[d] > 0.0) | (role[d] == DomainRole::kFixedPressure)) ? 0.0 : 1.0;
-  }
+  const double collapsed =
+      internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+        return VolumeChangeRange(begin, end, before, after, role, change);
+      });
   for (std::ptrdiff_t d = 0; collapsed > 0.0 && d < n; ++d) {
     if (!(after[d] > 0.0) && role[d] != DomainRole::kFixedPressure) {
       return FailedPrecondition(fmt::format(
@@ -66,11 +92,9 @@ Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
   double* live_apparent = s.net.flow.mutable_apparent_volume().data();
   double* live_pore = s.net.flow.mutable_pore_volume().data();
   const double* pore_now = pore_.data();
-#pragma omp parallel for simd schedule(static) if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t d = 0; d < n; ++d) {
-    live_apparent[d] = apparent[d];
-    live_pore[d] = pore ? pore_now[d] : std::min(live_pore[d], apparent[d]);
-  }
+  internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    LiveVolumesRange(begin, end, pore, apparent, pore_now, live_apparent, live_pore);
+  });
   return Status::Ok();
 }
 

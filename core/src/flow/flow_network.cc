@@ -36,10 +36,12 @@ std::ptrdiff_t FirstFailing(const std::vector<double>& v, Ok ok) {
   const auto n = static_cast<std::ptrdiff_t>(v.size());
   const double* x = v.data();
   // A count of whole numbers far below 2^53: exact in any order, so threads change nothing.
-  double bad = 0.0;
-#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
-    if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t i = 0; i < n; ++i) bad += ok(x[i]) ? 0.0 : 1.0;
+  const double bad = internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    double count = 0.0;
+#pragma omp simd reduction(+ : count)
+    for (std::ptrdiff_t i = begin; i < end; ++i) count += ok(x[i]) ? 0.0 : 1.0;
+    return count;
+  });
   if (bad == 0.0) return -1;
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (!ok(x[i])) return i;
@@ -147,8 +149,8 @@ Status FlowNetwork::Validate(const FlowNetworkData& d) {
 
 namespace {
 
-// True when every coefficient passes every check of ValidateCoefficients, in one parallel region
-// (the coupled loop validates at each flow update, and its seven passes were seven regions):
+// True when every coefficient passes every check of ValidateCoefficients, in at most one parallel
+// region (the coupled loop validates at each flow update, and its seven passes were seven):
 // per domain and per pipe a branch-free count of what fails. Only a failure pays for the checks
 // in order, which name the first one. False also when the sizes differ (the checks then say how).
 bool CoefficientsPass(const FlowNetworkData& d) {
@@ -170,33 +172,42 @@ bool CoefficientsPass(const FlowNetworkData& d) {
   const double* aperture = d.pipe_aperture.data();
   const double* conductance = d.pipe_conductance.data();
   const double* head = d.pipe_head_offset.data();
-  // Counts of whole numbers far below 2^53: exact in any order (and complete at the region's end,
-  // a barrier).
-  double bad_domains = 0.0;
-  double bad_pipes = 0.0;
-  double bad_heads = 0.0;
-#pragma omp parallel if (std::max(domains, pipes) >= internal::kMinParallelItems)
-  {
-#pragma omp for simd schedule(static) nowait reduction(+ : bad_domains)
-    for (std::ptrdiff_t i = 0; i < domains; ++i) {
+  // What fails among domains [d_begin, d_end) and pipes [p_begin, p_end): a count of whole
+  // numbers far below 2^53, exact in any order.
+  const auto count = [&](std::ptrdiff_t d_begin, std::ptrdiff_t d_end, std::ptrdiff_t p_begin,
+                         std::ptrdiff_t p_end) {
+    double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
+    for (std::ptrdiff_t i = d_begin; i < d_end; ++i) {
       const bool ok = FiniteNonNegative(apparent[i]) & FiniteNonNegative(pore[i]) &
                       (pore[i] <= apparent[i]) & SourceRateFits(source[i], role[i]);
-      bad_domains += ok ? 0.0 : 1.0;
+      bad += ok ? 0.0 : 1.0;
     }
-#pragma omp for simd schedule(static) nowait reduction(+ : bad_pipes)
-    for (std::ptrdiff_t p = 0; p < pipes; ++p) {
+#pragma omp simd reduction(+ : bad)
+    for (std::ptrdiff_t p = p_begin; p < p_end; ++p) {
       const bool ok = FinitePositive(length[p]) & FiniteNonNegative(aperture[p]) &
                       FinitePositive(conductance[p]);
-      bad_pipes += ok ? 0.0 : 1.0;
+      bad += ok ? 0.0 : 1.0;
     }
-    if (heads) {  // the fluid's weight: the same for the whole team
-#pragma omp for simd schedule(static) nowait reduction(+ : bad_heads)
-      for (std::ptrdiff_t p = 0; p < pipes; ++p) {
-        bad_heads += FiniteBranchFree(head[p]) ? 0.0 : 1.0;
+    if (heads) {  // the fluid's weight
+#pragma omp simd reduction(+ : bad)
+      for (std::ptrdiff_t p = p_begin; p < p_end; ++p) {
+        bad += FiniteBranchFree(head[p]) ? 0.0 : 1.0;
       }
     }
+    return bad;
+  };
+  // One region for all (or none, on one thread or a small network): each member takes its share
+  // of the domains and of the pipes.
+  if (!internal::OnTeam(std::max(domains, pipes))) return count(0, domains, 0, pipes) == 0.0;
+  double bad = 0.0;
+#pragma omp parallel reduction(+ : bad)
+  {
+    const auto [d_begin, d_end] = internal::ThreadShare(domains);
+    const auto [p_begin, p_end] = internal::ThreadShare(pipes);
+    bad += count(d_begin, d_end, p_begin, p_end);
   }
-  return bad_domains == 0.0 && bad_pipes == 0.0 && bad_heads == 0.0;
+  return bad == 0.0;
 }
 
 }  // namespace
@@ -257,6 +268,34 @@ std::span<double> FlowNetwork::mutable_pore_volume() {
   return data_.pore_volume;
 }
 
+namespace {
+
+// Apertures that are not finite and > 0 in [begin, end): a count, branch-free so that it
+// vectorises.
+double CountNonPositiveOrNonFinite(std::ptrdiff_t begin, std::ptrdiff_t end,
+                                   const double* __restrict a) {
+  double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
+  for (std::ptrdiff_t p = begin; p < end; ++p) {
+    bad += ((a[p] > 0.0) & FiniteBranchFree(a[p])) ? 0.0 : 1.0;
+  }
+  return bad;
+}
+
+// The apertures of [begin, end) and their cubic-law conductances a^3 / (12 mu L).
+void WriteCubicLaw(std::ptrdiff_t begin, std::ptrdiff_t end, double viscosity,
+                   const double* __restrict a_in, const double* __restrict length,
+                   double* __restrict a_out, double* __restrict c_out) {
+#pragma omp simd
+  for (std::ptrdiff_t p = begin; p < end; ++p) {
+    const double a = a_in[p];
+    a_out[p] = a;
+    c_out[p] = a * a * a / (12.0 * viscosity * length[p]);
+  }
+}
+
+}  // namespace
+
 Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscosity) {
   if (aperture.size() != num_pipes()) {
     return InvalidArgument("flow.network.pipe_aperture: has " + std::to_string(aperture.size()) +
@@ -269,13 +308,10 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
   // Checked in one branch-free pass, then written in another: the coupled loop calls this at every
   // flow update.
   const auto n = static_cast<std::ptrdiff_t>(aperture.size());
-  const double* __restrict a_in = aperture.data();
-  double bad = 0.0;
-#pragma omp parallel for simd schedule(static) reduction(+ : bad) \
-    if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t p = 0; p < n; ++p) {
-    bad += ((a_in[p] > 0.0) & FiniteBranchFree(a_in[p])) ? 0.0 : 1.0;
-  }
+  const double* a_in = aperture.data();
+  const double bad = internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    return CountNonPositiveOrNonFinite(begin, end, a_in);
+  });
   if (bad > 0.0) {
     for (std::size_t p = 0; p < aperture.size(); ++p) {
       if (std::isfinite(aperture[p]) && aperture[p] > 0.0) continue;
@@ -284,15 +320,10 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
     }
   }
   coefficient_version_ = NextFlowVersionStamp();
-  double* __restrict a_out = data_.pipe_aperture.data();
-  double* __restrict c_out = data_.pipe_conductance.data();
-  const double* __restrict length = data_.pipe_length.data();
-#pragma omp parallel for simd schedule(static) if (n >= internal::kMinParallelItems)
-  for (std::ptrdiff_t p = 0; p < n; ++p) {
-    const double a = a_in[p];
-    a_out[p] = a;
-    c_out[p] = a * a * a / (12.0 * viscosity * length[p]);
-  }
+  internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    WriteCubicLaw(begin, end, viscosity, a_in, data_.pipe_length.data(), data_.pipe_aperture.data(),
+                  data_.pipe_conductance.data());
+  });
   return Status::Ok();
 }
 
