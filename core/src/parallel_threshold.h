@@ -27,8 +27,9 @@ inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
 // sum and maximum forms).
 inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && omp_get_max_threads() > 1; }
 
-// The calling team member's share of `n` items, [first, second): contiguous and in thread order,
-// as schedule(static) hands them out.
+// The calling team member's share of `n` items, [first, second): contiguous, in thread order, and
+// of sizes that differ by one at most, like schedule(static)'s (the bounds may differ from
+// libgomp's by an item; no result depends on them).
 inline std::pair<std::ptrdiff_t, std::ptrdiff_t> ThreadShare(std::ptrdiff_t n) {
   const std::ptrdiff_t t = omp_get_thread_num();
   const std::ptrdiff_t team = omp_get_num_threads();
