@@ -22,9 +22,8 @@ inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
 // it must run without a parallel region. OpenMP's `if` clause is not enough: false, it still has
 // libgomp make a team of one and end it with a futex wake, about 0.2 us and a system call a
 // region. A step of a small explicit job entered one such region (1,500 a job of a sweep, about
-// 3 % of its time). A loop of a line or two is written twice (a parallel for and a plain one); a
-// longer block goes through RunOnCoreThreads, a loop over a range through ForEachShare (and its
-// sum and maximum forms).
+// 3 % of its time). A loop goes through ForEachShare (or its sum and maximum forms); a block of
+// orphaned `omp for` loops through RunOnCoreThreads.
 inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && omp_get_max_threads() > 1; }
 
 // The calling team member's share of `n` items, [first, second): contiguous, in thread order, and

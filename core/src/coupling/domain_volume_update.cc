@@ -471,12 +471,10 @@ Status DomainVolumeUpdater::Compute(const ParticleView& particles, const DomainN
   const auto domains = static_cast<std::ptrdiff_t>(pore_volume.size());
   double* pore = pore_volume.data();
   const double* correction = rattler_correction_.data();
-  if (internal::OnTeam(domains)) {
-#pragma omp parallel for simd schedule(static)
-    for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
-  } else {
-    for (std::ptrdiff_t d = 0; d < domains; ++d) pore[d] += correction[d];
-  }
+  internal::ForEachShare(domains, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+#pragma omp simd
+    for (std::ptrdiff_t d = begin; d < end; ++d) pore[d] += correction[d];
+  });
   return Status::Ok();
 }
 

@@ -46,21 +46,15 @@ ParticleView FluidVertices::Fill(const LiveState& s, std::span<const double> x,
   }
   // The copy is the fill's whole cost (the vertices are a few hundred): on the threads, as the
   // passes that read it are (a copy changes no bit).
-  const double* __restrict from_x = x.data();
-  const double* __restrict from_y = y.data();
-  double* __restrict to_x = x_.data();
-  double* __restrict to_y = y_.data();
-  const auto particles = static_cast<std::ptrdiff_t>(n);
-  if (internal::OnTeam(particles)) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < particles; ++i) {
-      to_x[i] = from_x[i];
-      to_y[i] = from_y[i];
-    }
-  } else {
-    std::copy(from_x, from_x + particles, to_x);
-    std::copy(from_y, from_y + particles, to_y);
-  }
+  const double* from_x = x.data();
+  const double* from_y = y.data();
+  double* to_x = x_.data();
+  double* to_y = y_.data();
+  internal::ForEachShare(static_cast<std::ptrdiff_t>(n),
+                         [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+                           std::copy(from_x + begin, from_x + end, to_x + begin);
+                           std::copy(from_y + begin, from_y + end, to_y + begin);
+                         });
   const std::span<double> vx = std::span<double>(x_).subspan(n);
   const std::span<double> vy = std::span<double>(y_).subspan(n);
   if (detected) {

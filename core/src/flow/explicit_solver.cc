@@ -614,14 +614,12 @@ Result<FlowAdvanceReport> ExplicitSolver::Advance(FlowNetwork& network, double d
     sub_step_volume_change_.resize(volume_change.size());
     const double share = 1.0 / static_cast<double>(out.sub_steps);
     const auto domains = static_cast<std::ptrdiff_t>(volume_change.size());
-    double* __restrict sub = sub_step_volume_change_.data();
-    const double* __restrict whole = volume_change.data();
-    if (internal::OnTeam(domains)) {
-#pragma omp parallel for simd schedule(static)
-      for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
-    } else {
-      for (std::ptrdiff_t d = 0; d < domains; ++d) sub[d] = whole[d] * share;
-    }
+    double* sub = sub_step_volume_change_.data();
+    const double* whole = volume_change.data();
+    internal::ForEachShare(domains, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+#pragma omp simd
+      for (std::ptrdiff_t d = begin; d < end; ++d) sub[d] = whole[d] * share;
+    });
     dv = sub_step_volume_change_;
   }
   out.max_mass_balance_error = options_.diagnostics ? 0.0 : FlowStepReport::kNaN;

@@ -26,15 +26,15 @@ Status CheckStepInput(std::string_view solver, double dt, std::size_t num_domain
     // Every flow update: a branch-free count first; the scan that names one only on failure.
     const double* dv = volume_change.data();
     const auto n = static_cast<std::ptrdiff_t>(volume_change.size());
-    double bad = 0.0;
     // A count (exact in any order), so on the threads it is the same number.
-    if (internal::OnTeam(n)) {
-#pragma omp parallel for simd schedule(static) reduction(+ : bad)
-      for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
-    } else {
-#pragma omp simd reduction(+ : bad)
-      for (std::ptrdiff_t d = 0; d < n; ++d) bad += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
-    }
+    const double bad = internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+      double count = 0.0;
+#pragma omp simd reduction(+ : count)
+      for (std::ptrdiff_t d = begin; d < end; ++d) {
+        count += internal::FiniteBranchFree(dv[d]) ? 0.0 : 1.0;
+      }
+      return count;
+    });
     for (std::size_t d = 0; bad > 0.0 && d < volume_change.size(); ++d) {
       if (!std::isfinite(volume_change[d])) {
         return InvalidArgument(fmt::format("flow.{}.volume_change[{}]: must be finite (got {})",

@@ -38,7 +38,6 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
 
   SupernodalRefactorization plan;
   plan.factor_size_ = static_cast<std::size_t>(lpx[nsuper]);
-  plan.nonzeros_ = lower.nonZeros();
   plan.update_.resize(std::max<std::size_t>(L.maxcsize, 1));
 
   std::vector<int> inverse_perm(static_cast<std::size_t>(n));
@@ -75,7 +74,7 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
       }
     }
   }
-  plan.value_slot_.assign(static_cast<std::size_t>(plan.nonzeros_), -1);
+  plan.value_slot_.assign(static_cast<std::size_t>(lower.nonZeros()), -1);
 
   // CHOLMOD's left-looking schedule, walked once without arithmetic: each supernode s is
   // updated by the pending descendants in its linked list (Head/Next, last placed first), and
@@ -146,14 +145,15 @@ bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_f
   static constexpr double kOne = 1.0;
   static constexpr double kZero = 0.0;
   // Not the planned pattern (a caller's contract broken): CHOLMOD itself, which plans again.
-  if (lower.nonZeros() != nonzeros_ || lower.rows() != static_cast<Eigen::Index>(L.n) ||
+  const auto nonzeros = static_cast<std::ptrdiff_t>(value_slot_.size());
+  if (lower.nonZeros() != nonzeros || lower.rows() != static_cast<Eigen::Index>(L.n) ||
       !lower.isCompressed()) {
     return false;
   }
   double* lx = static_cast<double*>(L.x);
   std::fill(lx, lx + factor_size_, 0.0);
   const double* values = lower.valuePtr();
-  for (std::ptrdiff_t e = 0; e < nonzeros_; ++e) {
+  for (std::ptrdiff_t e = 0; e < nonzeros; ++e) {
     if (value_slot_[e] >= 0) lx[value_slot_[e]] = values[e];
   }
   double* c = update_.data();

@@ -57,7 +57,6 @@ class SupernodalRefactorization {
   std::vector<int> value_slot_;    // per stored entry of `lower`: its place in L->x, or -1
   std::vector<double> update_;     // CHOLMOD's C (L->maxcsize)
   std::size_t factor_size_ = 0;    // entries of L->x the supernodes use
-  std::ptrdiff_t nonzeros_ = 0;
 };
 
 }  // namespace seep::core::flow_internal

@@ -292,17 +292,14 @@ Status Stepper::CheckParticlesFinite(std::uint64_t step) const {
   const double* x = p.x.data();
   const double* y = p.y.data();
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-  double bad = 0.0;
-  const auto finite = [&](std::ptrdiff_t i) {
-    return internal::FiniteBranchFree(x[i]) & internal::FiniteBranchFree(y[i]);
-  };
-  if (internal::OnTeam(n)) {
-#pragma omp parallel for simd schedule(static) reduction(+ : bad)
-    for (std::ptrdiff_t i = 0; i < n; ++i) bad += finite(i) ? 0.0 : 1.0;
-  } else {
-#pragma omp simd reduction(+ : bad)
-    for (std::ptrdiff_t i = 0; i < n; ++i) bad += finite(i) ? 0.0 : 1.0;
-  }
+  const double bad = internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    double count = 0.0;
+#pragma omp simd reduction(+ : count)
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      count += (internal::FiniteBranchFree(x[i]) & internal::FiniteBranchFree(y[i])) ? 0.0 : 1.0;
+    }
+    return count;
+  });
   if (bad == 0.0) return Status::Ok();
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i])) {
