@@ -54,6 +54,35 @@ void AppendTraversals(std::span<const std::int32_t> offsets, std::span<const std
   }
 }
 
+// Orders the walks by contact, and per contact the lo -> hi walk before the hi -> lo one: a
+// counting sort on the contact id (the ids are dense), two stable passes, in O(walks); a
+// comparison sort was most of a re-bind.
+Status SortByContact(std::vector<Traversal>* walks) {
+  std::size_t buckets = 0;
+  for (std::size_t k = 0; k < walks->size(); ++k) {
+    const std::int32_t contact = (*walks)[k].contact;
+    if (contact < 0) {
+      return InvalidArgument("coupling.pressure_forces.network: loop contact " +
+                             std::to_string(contact) + " (walk " + std::to_string(k) +
+                             ") is negative");
+    }
+    buckets = std::max(buckets, static_cast<std::size_t>(contact) + 1);
+  }
+  std::vector<std::int32_t> first(buckets + 1, 0);
+  for (const Traversal& w : *walks) ++first[static_cast<std::size_t>(w.contact) + 1];
+  for (std::size_t c = 0; c < buckets; ++c) first[c + 1] += first[c];
+  std::vector<Traversal> sorted(walks->size());
+  // Forward walks first, so that each contact's comes before its backward one.
+  for (const bool forward : {true, false}) {
+    for (const Traversal& w : *walks) {
+      if ((w.u < w.v) != forward) continue;
+      sorted[static_cast<std::size_t>(first[static_cast<std::size_t>(w.contact)]++)] = w;
+    }
+  }
+  *walks = std::move(sorted);
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status AddPressureForces(const ParticleView& particles, const DomainNetwork& network,
@@ -110,10 +139,7 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
         return static_cast<std::int32_t>(num_domains + q);
       },
       &walks);
-  // Per contact: the lo -> hi walk first, then the hi -> lo one.
-  std::sort(walks.begin(), walks.end(), [](const Traversal& a, const Traversal& b) {
-    return a.contact < b.contact || (a.contact == b.contact && (a.u < a.v) > (b.u < b.v));
-  });
+  SEEP_RETURN_IF_ERROR(SortByContact(&walks));
   // Built aside and committed at the end: a failed Bind leaves the kernel as it was.
   std::vector<ContactTerms> terms;
   terms.reserve(walks.size() / 2);

@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numeric>
-#include <set>
 #include <tuple>
 #include <utility>
 
@@ -15,43 +13,147 @@
 namespace seep::core {
 namespace {
 
-// A loop vertex by what it is, not by its id, so that two detections agree: a particle is
-// (-1, particle, -1); a wall vertex, whose id depends on what else touches the walls, is
-// (wall, particle, -1) for a foot and (wall, -1, other wall) for a corner (domain_walls.h).
-using Vertex = std::tuple<std::int32_t, std::int32_t, std::int32_t>;
-using HalfEdge = std::pair<Vertex, Vertex>;
-
-Vertex VertexOf(const DomainNetwork& d, std::int32_t id) {
-  const DomainWalls& walls = d.walls;
-  if (!walls.IsWallVertex(id)) return {-1, id, -1};
-  const auto v = static_cast<std::size_t>(id - walls.num_particles);
-  return {walls.vertex_wall[v], walls.vertex_particle[v], walls.vertex_other_wall[v]};
-}
-
-std::pair<Vertex, Vertex> Unordered(const Vertex& a, const Vertex& b) { return std::minmax(a, b); }
-
-// Half-edge -> the domain on its left: every domain loop (CCW), and the outer loops of islands
-// (clockwise, host domain on the left). Top-level outer loops border the outside: left out.
-std::map<HalfEdge, std::int32_t> LeftFaces(const DomainNetwork& d) {
-  std::map<HalfEdge, std::int32_t> left;
-  auto add_loop = [&left, &d](const std::vector<std::int32_t>& particles, std::size_t begin,
-                              std::size_t end, std::int32_t face) {
-    for (std::size_t k = begin; k < end; ++k) {
-      const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
-      left.emplace(HalfEdge{VertexOf(d, particles[k]), VertexOf(d, next)}, face);
+// Loop vertices numbered alike in two detections of the same particles: a particle keeps its id;
+// a wall vertex, whose id depends on what else touches the walls, is numbered after the particles
+// by what it is, (wall, particle, -1) for a foot and (wall, -1, other wall) for a corner
+// (domain_walls.h), so that the same vertex gets the same number in both.
+class SharedVertexIds {
+ public:
+  SharedVertexIds(const DomainNetwork& a, const DomainNetwork& b) {
+    std::int32_t particles = 0;  // one past the largest particle id in either network's loops
+    for (const DomainNetwork* d : {&a, &b}) {
+      for (const auto* loops : {&d->loop_particles, &d->outer_particles}) {
+        for (const std::int32_t id : *loops) {
+          if (!d->walls.IsWallVertex(id)) particles = std::max(particles, id + 1);
+        }
+      }
     }
-  };
-  for (std::size_t dom = 0; dom < d.num_domains(); ++dom) {
-    add_loop(d.loop_particles, static_cast<std::size_t>(d.loop_offsets[dom]),
-             static_cast<std::size_t>(d.loop_offsets[dom + 1]), static_cast<std::int32_t>(dom));
+    std::vector<WallVertex> all;
+    for (const DomainNetwork* d : {&a, &b}) {
+      for (std::size_t v = 0; v < d->walls.num_vertices(); ++v) all.push_back(WallVertexOf(*d, v));
+    }
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    const auto number = [&](const DomainNetwork& d, std::vector<std::uint32_t>* out) {
+      out->resize(d.walls.num_vertices());
+      for (std::size_t v = 0; v < out->size(); ++v) {
+        const auto at = std::lower_bound(all.begin(), all.end(), WallVertexOf(d, v));
+        (*out)[v] =
+            static_cast<std::uint32_t>(particles) + static_cast<std::uint32_t>(at - all.begin());
+      }
+    };
+    number(a, &wall_ids_[0]);
+    number(b, &wall_ids_[1]);
+    walls_[0] = &a.walls;
+    walls_[1] = &b.walls;
+    count_ = static_cast<std::size_t>(particles) + all.size();
   }
-  for (std::size_t o = 0; o < d.num_outer_faces(); ++o) {
-    if (d.outer_host_domain[o] < 0) continue;
-    add_loop(d.outer_particles, static_cast<std::size_t>(d.outer_offsets[o]),
-             static_cast<std::size_t>(d.outer_offsets[o + 1]), d.outer_host_domain[o]);
+
+  std::size_t count() const { return count_; }
+  // The shared number of loop id `id` of network `which` (0: a, 1: b).
+  std::uint32_t Of(int which, std::int32_t id) const {
+    const DomainWalls& walls = *walls_[which];
+    if (!walls.IsWallVertex(id)) return static_cast<std::uint32_t>(id);
+    return wall_ids_[which][static_cast<std::size_t>(id - walls.num_particles)];
   }
-  return left;
-}
+
+ private:
+  using WallVertex = std::tuple<std::int32_t, std::int32_t, std::int32_t>;
+  static WallVertex WallVertexOf(const DomainNetwork& d, std::size_t v) {
+    return {d.walls.vertex_wall[v], d.walls.vertex_particle[v], d.walls.vertex_other_wall[v]};
+  }
+
+  const DomainWalls* walls_[2] = {nullptr, nullptr};
+  std::vector<std::uint32_t> wall_ids_[2];
+  std::size_t count_ = 0;
+};
+
+// Every half-edge of a network's loops (domain loops CCW, outer loops clockwise), grouped by its
+// origin vertex (shared numbering) in loop order: domains first, then outer loops. Its face is
+// the domain on its left: the domain itself, an island's host, or kOutside for a top-level outer
+// loop, which borders the outside. Where a directed half-edge appears more than once, the first
+// with a domain on its left is the one that counts (LeftFace), as in a map filled in loop order.
+class HalfEdges {
+ public:
+  static constexpr std::int32_t kOutside = -1;
+  static constexpr std::int32_t kNone = -2;
+
+  HalfEdges(const DomainNetwork& d, const SharedVertexIds& ids, int which) {
+    first_.assign(ids.count() + 1, 0);
+    const auto walk = [&](const std::vector<std::int32_t>& loops,
+                          const std::vector<std::int32_t>& offsets, auto&& face_of, auto&& visit) {
+      for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+        const auto begin = static_cast<std::size_t>(offsets[f]);
+        const auto end = static_cast<std::size_t>(offsets[f + 1]);
+        const std::int32_t face = face_of(f);
+        for (std::size_t k = begin; k < end; ++k) {
+          const std::int32_t next = loops[k + 1 < end ? k + 1 : begin];
+          visit(ids.Of(which, loops[k]), ids.Of(which, next), face);
+        }
+      }
+    };
+    const auto domain = [](std::size_t f) { return static_cast<std::int32_t>(f); };
+    const auto host = [&d](std::size_t f) {
+      const std::int32_t h = d.outer_host_domain[f];
+      return h < 0 ? kOutside : h;
+    };
+    const auto both = [&](auto&& visit) {
+      walk(d.loop_particles, d.loop_offsets, domain, visit);
+      walk(d.outer_particles, d.outer_offsets, host, visit);
+    };
+    both([&](std::uint32_t from, std::uint32_t, std::int32_t) { ++first_[from + 1]; });
+    for (std::size_t v = 1; v < first_.size(); ++v) first_[v] += first_[v - 1];
+    target_.resize(first_.back());
+    face_.resize(first_.back());
+    std::vector<std::uint32_t> fill(first_.begin(), first_.end() - 1);
+    both([&](std::uint32_t from, std::uint32_t to, std::int32_t face) {
+      const std::uint32_t at = fill[from]++;
+      target_[at] = to;
+      face_[at] = face;
+    });
+  }
+
+  // The domain on the left of from -> to, or kNone.
+  std::int32_t LeftFace(std::uint32_t from, std::uint32_t to) const {
+    for (std::uint32_t k = first_[from]; k < first_[from + 1]; ++k) {
+      if (target_[k] == to && face_[k] >= 0) return face_[k];
+    }
+    return kNone;
+  }
+  // Whether some loop walks from -> to or to -> from.
+  bool HasEdge(std::uint32_t from, std::uint32_t to) const {
+    return Walks(from, to) || Walks(to, from);
+  }
+  // Calls visit(from, to, face) once per directed half-edge with a domain on its left, with the
+  // face LeftFace gives.
+  template <typename Visit>
+  void ForEachLeft(Visit&& visit) const {
+    for (std::uint32_t from = 0; from + 1 < first_.size(); ++from) {
+      for (std::uint32_t k = first_[from]; k < first_[from + 1]; ++k) {
+        if (face_[k] >= 0 && FirstWithLeft(from, k)) visit(from, target_[k], face_[k]);
+      }
+    }
+  }
+
+ private:
+  bool Walks(std::uint32_t from, std::uint32_t to) const {
+    for (std::uint32_t k = first_[from]; k < first_[from + 1]; ++k) {
+      if (target_[k] == to) return true;
+    }
+    return false;
+  }
+  // Entry k is the first of its origin's entries to its target with a domain on the left.
+  bool FirstWithLeft(std::uint32_t from, std::uint32_t k) const {
+    for (std::uint32_t e = first_[from]; e < k; ++e) {
+      if (target_[e] == target_[k] && face_[e] >= 0) return false;
+    }
+    return true;
+  }
+
+  std::vector<std::uint32_t> first_;  // per shared vertex: its first entry (CSR offsets)
+  std::vector<std::uint32_t> target_;
+  std::vector<std::int32_t> face_;
+};
 
 std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
   while (parent[static_cast<std::size_t>(x)] != x) {
@@ -146,51 +248,28 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
   // Union-find over old domains [0, n_old) and new domains [n_old, n_old + n_new).
   std::vector<std::int32_t> parent(n_old + n_new);
   std::iota(parent.begin(), parent.end(), 0);
-  const auto old_left = LeftFaces(old_network);
-  const auto new_left = LeftFaces(new_network);
-  // Both maps are sorted by half-edge: walk them together.
-  auto o = old_left.begin();
-  auto n = new_left.begin();
-  while (o != old_left.end() && n != new_left.end()) {
-    if (o->first < n->first) {
-      ++o;
-    } else if (n->first < o->first) {
-      ++n;
-    } else {
-      const std::int32_t a = Find(parent, o->second);
-      const std::int32_t b = Find(parent, static_cast<std::int32_t>(n_old) + n->second);
-      // The smaller root wins: the result does not depend on the order of the unions.
-      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-      ++o;
-      ++n;
-    }
-  }
-  // A loop contact of the old network that bounds no loop of the new one (lost, or left dangling)
-  // joins the two old faces beside it: they are one face now. This also catches a domain whose
-  // every loop contact broke at once, which no surviving half-edge would match.
-  std::set<HalfEdge> new_edges;  // unordered: (smaller vertex, larger vertex)
-  const auto add_edges = [&new_edges, &new_network](const std::vector<std::int32_t>& particles,
-                                                    const std::vector<std::int32_t>& offsets) {
-    for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
-      const auto begin = static_cast<std::size_t>(offsets[f]);
-      const auto end = static_cast<std::size_t>(offsets[f + 1]);
-      for (std::size_t k = begin; k < end; ++k) {
-        const std::int32_t next = particles[k + 1 < end ? k + 1 : begin];
-        new_edges.insert(
-            Unordered(VertexOf(new_network, particles[k]), VertexOf(new_network, next)));
-      }
-    }
-  };
-  add_edges(new_network.loop_particles, new_network.loop_offsets);
-  add_edges(new_network.outer_particles, new_network.outer_offsets);
-  for (const auto& [edge, face] : old_left) {
-    if (new_edges.count(Unordered(edge.first, edge.second)) != 0) continue;
-    const auto twin = old_left.find(HalfEdge{edge.second, edge.first});
-    if (twin == old_left.end()) continue;  // the outside was beside it: that face opened
-    const std::int32_t a = Find(parent, face);
-    const std::int32_t b = Find(parent, twin->second);
+  const SharedVertexIds ids(old_network, new_network);
+  const HalfEdges old_edges(old_network, ids, 0);
+  const HalfEdges new_edges(new_network, ids, 1);
+  const auto join = [&parent](std::int32_t x, std::int32_t y) {
+    const std::int32_t a = Find(parent, x);
+    const std::int32_t b = Find(parent, y);
+    // The smaller root wins: every root is its set's smallest member, whatever the order of the
+    // unions.
     if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
+  };
+  old_edges.ForEachLeft([&](std::uint32_t from, std::uint32_t to, std::int32_t face) {
+    // A half-edge in both networks: the old and the new domain on its left overlap.
+    const std::int32_t now = new_edges.LeftFace(from, to);
+    if (now >= 0) join(face, static_cast<std::int32_t>(n_old) + now);
+    // A loop contact of the old network that bounds no loop of the new one (lost, or left
+    // dangling) joins the two old faces beside it: they are one face now. This also catches a
+    // domain whose every loop contact broke at once, which no surviving half-edge would match.
+    // (Without a domain on the twin's left, the outside was beside it: that face opened.)
+    if (new_edges.HasEdge(from, to)) return;
+    const std::int32_t twin = old_edges.LeftFace(to, from);
+    if (twin >= 0) join(face, twin);
+  });
 
   PressureRemapReport report;
   std::vector<double> stored(n_old + n_new, 0.0);  // per root: sum V_s P of old members

@@ -3,6 +3,7 @@
 // the stored fluid sum V_s P.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "scene_test_util.h"
 #include "seep/core/geometry/contact_detection.h"
 #include "seep/core/geometry/domain_detection.h"
+#include "seep/core/geometry/domain_walls.h"
 #include "seep/core/geometry/packing.h"
 #include "seep/core/network/pressure_remap.h"
 #include "seep/core/network/scene_network.h"
@@ -190,6 +192,94 @@ TEST(PocketPressures, TakeWhatThePocketOpenedInto) {
   EXPECT_DOUBLE_EQ(pressure[4], 7e4);                            // node 2; pocket 3 ignored
   EXPECT_EQ(pressure[5], 42.0);
   EXPECT_EQ(pressure[2], 7e4);  // not a pocket: untouched
+}
+
+// A wall vertex's id depends on what else touches the walls: a foot that leaves the floor drops its
+// vertex and renumbers the ones after it. The remap must match wall vertices by what they are:
+// the two floor pores beside the lost foot merge, and every other domain keeps its pressure
+// exactly (with ids matched, a shifted vertex would tie unrelated domains together).
+TEST(PressureRemap, WallVerticesAreMatchedByWhatTheyAre) {
+  const double R = 1e-3;
+  const Result<Packing> lattice = SquareLattice(3, 3, R);
+  ASSERT_TRUE(lattice.ok());
+  const Packing& p = *lattice;
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    x0 = std::min(x0, p.x[i] - p.radius[i]);
+    y0 = std::min(y0, p.y[i] - p.radius[i]);
+    x1 = std::max(x1, p.x[i] + p.radius[i]);
+    y1 = std::max(y1, p.y[i] + p.radius[i]);
+  }
+  const std::vector<WallLine> lines = {
+      {x0, y0, 1.0, 0.0}, {x1, y0, -1.0, 0.0}, {x0, y0, 0.0, 1.0}, {x0, y1, 0.0, -1.0}};
+  const double max_gap = 1e-9 * R;
+  const Result<ContactList> contacts = DetectContacts(p, max_gap);
+  ASSERT_TRUE(contacts.ok());
+  const WallContactList feet = FindWallContacts(p, lines, max_gap);
+  const auto detect = [&](const WallContactList& wall_contacts) {
+    DomainDetector detector;
+    DomainNetwork net;
+    const Status s =
+        detector.Detect(p, *contacts, ClipWalls(p, lines), wall_contacts, {max_gap}, &net);
+    EXPECT_TRUE(s.ok()) << s.ToString();
+    return net;
+  };
+  // The floor's middle foot: the lowest particle nearest the middle.
+  std::size_t lost = feet.size();
+  for (std::size_t k = 0; k < feet.size(); ++k) {
+    const auto i = static_cast<std::size_t>(feet.particle[k]);
+    if (feet.wall[k] == 2 && std::abs(p.x[i] - 0.5 * (x0 + x1)) < 0.5 * R) lost = k;
+  }
+  ASSERT_LT(lost, feet.size());
+  WallContactList fewer;
+  for (std::size_t k = 0; k < feet.size(); ++k) {
+    if (k == lost) continue;
+    fewer.particle.push_back(feet.particle[k]);
+    fewer.wall.push_back(feet.wall[k]);
+    fewer.gap.push_back(feet.gap[k]);
+  }
+  const DomainNetwork before = detect(feet);
+  const DomainNetwork after = detect(fewer);
+  ASSERT_EQ(before.num_domains(), 16u);
+  ASSERT_EQ(after.num_domains(), 15u);
+  ASSERT_EQ(after.walls.num_vertices() + 1, before.walls.num_vertices());
+
+  const std::vector<double> pressure = Pressures(before.num_domains());
+  PressureRemapReport report;
+  const std::vector<double> remapped = Remap(before, pressure, after, &report);
+  ASSERT_EQ(remapped.size(), after.num_domains());
+  EXPECT_EQ(report.unmatched_new, 0);
+  EXPECT_EQ(report.unmatched_old, 0);
+  EXPECT_EQ(report.clusters, 15);
+  EXPECT_NEAR(report.new_stored / report.old_stored, 1.0, 1e-12);
+  // Each new domain against the old ones at its centroid (a vertex apart at most is 1e-9 R).
+  std::vector<std::size_t> merged_from;
+  for (std::size_t e = 0; e < after.num_domains(); ++e) {
+    std::size_t same = before.num_domains();
+    for (std::size_t d = 0; d < before.num_domains(); ++d) {
+      if (std::hypot(before.centroid_x[d] - after.centroid_x[e],
+                     before.centroid_y[d] - after.centroid_y[e]) < 1e-9 * R) {
+        same = d;
+      }
+    }
+    if (same < before.num_domains()) {
+      EXPECT_EQ(remapped[e], pressure[same]) << "domain " << e;
+      continue;
+    }
+    // The merged floor pore: the V_p-weighted mean of the two it replaced (the old domains
+    // whose centroids lie on the floor within 2R of the lost foot's particle).
+    double stored = 0.0, volume = 0.0;
+    const auto i = static_cast<std::size_t>(feet.particle[lost]);
+    for (std::size_t d = 0; d < before.num_domains(); ++d) {
+      if (before.centroid_y[d] < p.y[i] && std::abs(before.centroid_x[d] - p.x[i]) < 2 * R) {
+        stored += before.pore_volume[d] * pressure[d];
+        volume += before.pore_volume[d];
+        merged_from.push_back(d);
+      }
+    }
+    EXPECT_NEAR(remapped[e], stored / volume, 1e-14 * stored / volume);
+  }
+  EXPECT_EQ(merged_from.size(), 2u);
 }
 
 }  // namespace

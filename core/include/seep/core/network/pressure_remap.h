@@ -22,7 +22,8 @@
 // caller can give it the pressure of what it was part of (PocketPressures); an old domain in no
 // cluster with a new domain (opened to the outside) loses its fluid. Both are counted.
 //
-// Deterministic: ordered containers only, sums in domain order.
+// Deterministic: the joins do not depend on their order (a cluster's root is its smallest member)
+// and the sums run in domain order. O(loop entries): half-edges are looked up per origin vertex.
 #pragma once
 
 #include <cstdint>
