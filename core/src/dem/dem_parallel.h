@@ -8,5 +8,7 @@ namespace seep::core::dem_internal {
 using internal::ForEachShare;
 using internal::kMinParallelItems;
 using internal::MaxOverShares;
+using internal::OnTeam;
+using internal::ThreadShare;
 
 }  // namespace seep::core::dem_internal

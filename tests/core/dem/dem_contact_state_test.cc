@@ -7,6 +7,7 @@
 #include "seep/core/dem/dem_contact_state.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -465,6 +466,78 @@ TEST(DemContactState, FlowContactsAreTheNearAndTheBondedPairs) {
   ExpectFlowContacts(bonded, -0.01, 0.015);
   ExpectFlowContacts(bonded, 0.03, 0.015);
   ExpectFlowContacts(bonded, settings.skin, 0.015);
+}
+
+// On a team, FlowContactsAre splits the pairs into shares, each of which finds where its flow
+// contacts sit in the list; the runs must tile the list in share order. On a bed large enough
+// for a team (about 28k pairs), two threads give one thread's answer for the list and for lists
+// wrong in one entry at the start, at the end and where the shares meet.
+TEST(DemContactState, FlowContactsAreTheSameOnATeam) {
+  const Result<Packing> lattice = HexLattice(120, 80, 0.5);
+  ASSERT_TRUE(lattice.ok());
+  Result<DemParticles> p = MakeDemParticles(*lattice, 1.0);
+  ASSERT_TRUE(p.ok()) << p.status().ToString();
+  DemContactSettings settings;
+  settings.law.kn = 1.0e5;
+  settings.skin = 0.1;
+  DemContactForces contacts = MakeContacts(settings);
+  DemStepOptions options;
+  options.dt = 1.0e-4;
+  ASSERT_TRUE(ComputeDemForces(&*p, {}, &contacts, options, nullptr).ok());
+  ASSERT_GE(contacts.pair_count(), 2u * 8192u);  // a team of two, kMinParallelItems each
+  const double max_gap = 1e-9;
+  ContactList list;
+  contacts.CollectFlowContacts(max_gap, &list);
+  ASSERT_GT(list.size(), 20000u);
+  const int threads = omp_get_max_threads();
+  const auto answer = [&](int team, const std::vector<std::int32_t>& i,
+                          const std::vector<std::int32_t>& j) {
+    omp_set_num_threads(team);
+    const bool same = contacts.FlowContactsAre(max_gap, i, j);
+    omp_set_num_threads(threads);
+    return same;
+  };
+  struct Case {
+    std::string name;
+    std::vector<std::int32_t> i, j;
+    bool same;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"the list", list.i, list.j, true});
+  const std::size_t middle = list.size() / 2;  // where two shares meet, give or take a few
+  for (const std::size_t at : {std::size_t{0}, middle - 1, middle, middle + 1, list.size() - 1}) {
+    Case less{"without entry " + std::to_string(at), list.i, list.j, false};
+    less.i.erase(less.i.begin() + static_cast<std::ptrdiff_t>(at));
+    less.j.erase(less.j.begin() + static_cast<std::ptrdiff_t>(at));
+    cases.push_back(less);
+    Case again{"entry " + std::to_string(at) + " twice", list.i, list.j, false};
+    again.i.insert(again.i.begin() + static_cast<std::ptrdiff_t>(at), list.i[at]);
+    again.j.insert(again.j.begin() + static_cast<std::ptrdiff_t>(at), list.j[at]);
+    cases.push_back(again);
+    Case other{"entry " + std::to_string(at) + " another pair", list.i, list.j, false};
+    other.j[at] += 1;
+    cases.push_back(other);
+  }
+  Case swapped{"two entries swapped where the shares meet", list.i, list.j, false};
+  std::swap(swapped.i[middle], swapped.i[middle + 1]);
+  std::swap(swapped.j[middle], swapped.j[middle + 1]);
+  cases.push_back(swapped);
+  Case halves{"the halves swapped", {}, {}, false};
+  halves.i.assign(list.i.begin() + static_cast<std::ptrdiff_t>(middle), list.i.end());
+  halves.i.insert(halves.i.end(), list.i.begin(),
+                  list.i.begin() + static_cast<std::ptrdiff_t>(middle));
+  halves.j.assign(list.j.begin() + static_cast<std::ptrdiff_t>(middle), list.j.end());
+  halves.j.insert(halves.j.end(), list.j.begin(),
+                  list.j.begin() + static_cast<std::ptrdiff_t>(middle));
+  cases.push_back(halves);
+  Case more{"one more at the end", list.i, list.j, false};
+  more.i.push_back(1000000);
+  more.j.push_back(1000001);
+  cases.push_back(more);
+  for (const Case& c : cases) {
+    EXPECT_EQ(answer(1, c.i, c.j), c.same) << c.name << ", one thread";
+    EXPECT_EQ(answer(2, c.i, c.j), c.same) << c.name << ", two threads";
+  }
 }
 
 // Between rebuilds a gap can close by up to one skin (each disk moves up to skin/2): a pair just

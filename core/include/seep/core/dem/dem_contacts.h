@@ -239,6 +239,17 @@ class DemContactForces {
     const bool bonded = e.bond >= 0 && bond_failure_[e.bond] == BondFailure::kNone;
     return e.gap <= max_gap || bonded;
   }
+  // How the flow contacts of a run of pairs compare with a list: they are its entries
+  // [start, start + count) (ok), or not (count is then where they stopped matching).
+  struct FlowRun {
+    std::size_t start = 0, count = 0;
+    bool ok = true;
+  };
+  // The flow contacts of pairs [begin, end) against (i, j) from entry 0, or with `locate` from
+  // where the first of them sits in the list (sorted as the pairs are).
+  FlowRun MatchFlowRun(double max_gap, std::size_t begin, std::size_t end,
+                       std::span<const std::int32_t> i, std::span<const std::int32_t> j,
+                       bool locate) const;
   template <bool kBonds>
   void PairForcesKernel(DemParticles* particles, double dt, bool overwrite, DemCounters* counters);
   Status Evaluate(DemParticles* particles, const std::vector<DemWall>& walls, double dt,
