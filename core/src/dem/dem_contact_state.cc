@@ -329,6 +329,7 @@ Status DemContactForces::RestoreState(const DemContactState& s, std::size_t part
     bond_failure_[b] = static_cast<BondFailure>(s.bond_failure[b]);
   }
   bond_reported_ = s.bond_reported;
+  unreported_breaks_ = true;
   broken_.clear();
 
   wall_p_ = s.wall_contact_particle;

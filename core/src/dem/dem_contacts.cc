@@ -307,11 +307,12 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
   BondFailure* bfail = bond_failure_.data();
   const double* bwidth = bond_half_width_.data();
   const BondParams bp = bond_params_;
-  std::uint64_t touching = 0, bond_evals = 0;
+  std::uint64_t touching = 0, bond_evals = 0, bond_fails = 0;
   // Pair k's contact law (and bond): updates its entry, returns its force on i. The counters are
   // the caller's (a thread's own copies on a team).
   const auto evaluate = [&](std::ptrdiff_t k, std::uint64_t& touched,
-                            std::uint64_t& bonds_evaluated) -> PairSlot {
+                            std::uint64_t& bonds_evaluated,
+                            std::uint64_t& bonds_failed) -> PairSlot {
     PairEntry& e = pairs[k];
     const PackedDisk a = packed[e.i];
     const PackedDisk b = packed[e.j];
@@ -343,6 +344,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
         const BondFailure failure = UpdateBond(bp, bwidth[bi], vn, vt, a.omega, b.omega, dt, &st);
         if (failure != BondFailure::kNone) {
           bfail[bi] = failure;  // one bond per pair entry: no other thread writes it
+          ++bonds_failed;
         } else {
           fnc += st.fn;
           ftc += st.fs;
@@ -374,7 +376,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
     if (sums_.size() != static_cast<std::size_t>(n)) sums_.assign(static_cast<std::size_t>(n), {});
     PairSums* __restrict sums = sums_.data();
     for (std::ptrdiff_t k = 0; k < np; ++k) {
-      const PairSlot sl = evaluate(k, touching, bond_evals);
+      const PairSlot sl = evaluate(k, touching, bond_evals, bond_fails);
       PairSums& si = sums[pairs[k].i];
       si.fx += sl.fx;
       si.fy += sl.fy;
@@ -402,8 +404,10 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
     // One parallel region, two loops (pairs, then the gather that needs all of them).
 #pragma omp parallel
     {
-#pragma omp for schedule(static) reduction(+ : touching, bond_evals)
-      for (std::ptrdiff_t k = 0; k < np; ++k) slots[k] = evaluate(k, touching, bond_evals);
+#pragma omp for schedule(static) reduction(+ : touching, bond_evals, bond_fails)
+      for (std::ptrdiff_t k = 0; k < np; ++k) {
+        slots[k] = evaluate(k, touching, bond_evals, bond_fails);
+      }
 #pragma omp for schedule(static)
       for (std::ptrdiff_t i = 0; i < n; ++i) {
         double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
@@ -421,6 +425,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
       }
     }
   }
+  if (bond_fails != 0) unreported_breaks_ = true;
   if (counters != nullptr) {
     counters->pair_checks += static_cast<std::uint64_t>(np);
     counters->pair_evaluations += touching;
@@ -500,6 +505,10 @@ Status DemContactForces::SetWallExtents(std::vector<DemWallExtent> extents) {
 }
 
 void DemContactForces::CollectBondBreaks(DemCounters* counters) {
+  // A scan of every bond only after a pass that broke one (it was 1.6 % of a coupled step on the
+  // 43k-disk fracturing bed, and serial).
+  if (!unreported_breaks_) return;
+  unreported_breaks_ = false;
   for (std::size_t b = 0; b < bond_i_.size(); ++b) {
     if (bond_failure_[b] == BondFailure::kNone || bond_reported_[b]) continue;
     bond_reported_[b] = 1;

@@ -276,6 +276,9 @@ class DemContactForces {
   std::vector<BondState> bond_state_;
   std::vector<BondFailure> bond_failure_;  // kNone while intact
   std::vector<std::uint8_t> bond_reported_;
+  // A bond failed since the last CollectBondBreaks (or a restored state may hold unreported
+  // ones): the next one scans the bonds.
+  bool unreported_breaks_ = false;
   std::vector<BondBreak> broken_;
 
   // Wall contacts, sorted by (wall_p_, wall_w_).
