@@ -54,19 +54,25 @@ void AppendTraversals(std::span<const std::int32_t> offsets, std::span<const std
   }
 }
 
-// Orders the walks by contact, and per contact the lo -> hi walk before the hi -> lo one: a
-// counting sort on the contact id (the ids are dense), two stable passes, in O(walks); a
-// comparison sort was most of a re-bind.
-Status SortByContact(std::vector<Traversal>* walks) {
-  std::size_t buckets = 0;
-  for (std::size_t k = 0; k < walks->size(); ++k) {
-    const std::int32_t contact = (*walks)[k].contact;
-    if (contact < 0) {
-      return InvalidArgument("coupling.pressure_forces.network: loop contact " +
-                             std::to_string(contact) + " (walk " + std::to_string(k) +
-                             ") is negative");
+// A loop contact is an index into the contacts (and wall edges after them): never negative.
+Status CheckContactIds(std::span<const std::int32_t> contacts, const char* field) {
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (contacts[k] < 0) {
+      return InvalidArgument(std::string("coupling.pressure_forces.network.") + field + "[" +
+                             std::to_string(k) + "]: contact id " + std::to_string(contacts[k]) +
+                             " is negative");
     }
-    buckets = std::max(buckets, static_cast<std::size_t>(contact) + 1);
+  }
+  return Status::Ok();
+}
+
+// Orders the walks by contact (ids >= 0, CheckContactIds), and per contact the lo -> hi walk
+// before the hi -> lo one: a counting sort on the contact id (the ids are dense), two stable
+// passes, in O(walks); a comparison sort was most of a re-bind.
+void SortByContact(std::vector<Traversal>* walks) {
+  std::size_t buckets = 0;
+  for (const Traversal& w : *walks) {
+    buckets = std::max(buckets, static_cast<std::size_t>(w.contact) + 1);
   }
   std::vector<std::int32_t> first(buckets + 1, 0);
   for (const Traversal& w : *walks) ++first[static_cast<std::size_t>(w.contact) + 1];
@@ -80,7 +86,6 @@ Status SortByContact(std::vector<Traversal>* walks) {
     }
   }
   *walks = std::move(sorted);
-  return Status::Ok();
 }
 
 }  // namespace
@@ -128,6 +133,8 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
   }
   SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, num_particles, "loop_particles"));
   SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, num_particles, "outer_particles"));
+  SEEP_RETURN_IF_ERROR(CheckContactIds(network.loop_contacts, "loop_contacts"));
+  SEEP_RETURN_IF_ERROR(CheckContactIds(network.outer_contacts, "outer_contacts"));
   std::vector<Traversal> walks;
   walks.reserve(network.loop_particles.size() + network.outer_particles.size());
   AppendTraversals(
@@ -139,7 +146,7 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
         return static_cast<std::int32_t>(num_domains + q);
       },
       &walks);
-  SEEP_RETURN_IF_ERROR(SortByContact(&walks));
+  SortByContact(&walks);
   // Built aside and committed at the end: a failed Bind leaves the kernel as it was.
   std::vector<ContactTerms> terms;
   terms.reserve(walks.size() / 2);

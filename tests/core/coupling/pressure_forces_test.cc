@@ -382,6 +382,13 @@ TEST(PressureForces, KernelBindRefusesContactsNotWalkedOnceEachWay) {
   const Status s2 = kernel.Bind(doubled, d.packing.size());
   EXPECT_EQ(s2.code(), StatusCode::kInternal);
   EXPECT_EQ(s2.message(), message);
+  // A negative contact id is named (it has no place among the contacts).
+  DomainNetwork negative = d.domains;
+  negative.loop_contacts[begin + 1] = -3;
+  const Status s3 = kernel.Bind(negative, d.packing.size());
+  EXPECT_EQ(s3.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(s3.message(), "coupling.pressure_forces.network.loop_contacts[" +
+                              std::to_string(begin + 1) + "]: contact id -3 is negative");
   // AddPressureForces binds the same way: refused, nothing added.
   std::vector<double> fx(d.packing.size(), 0.0), fy(d.packing.size(), 0.0);
   const std::vector<double> pressure(reversed.num_domains(), 1e5);
