@@ -56,10 +56,10 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
     return Status::Ok();
   }
   SEEP_RETURN_IF_ERROR(network.Validate());
-  SEEP_ASSIGN_OR_RETURN(capacity_,
-                        ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus));
-  SEEP_ASSIGN_OR_RETURN(limit_,
-                        ComputeCriticalTimeStep(network, options_.bulk_modulus, options_.storage));
+  SEEP_RETURN_IF_ERROR(
+      ComputeStorageCapacitiesInto(network, options_.storage, options_.bulk_modulus, &capacity_));
+  SEEP_ASSIGN_OR_RETURN(limit_, ComputeCriticalTimeStep(network, options_.bulk_modulus,
+                                                        options_.storage, {}, &limit_scratch_));
   storage_diagonal_dt_ = -1.0;
   SEEP_RETURN_IF_ERROR(system_->SyncTopology(network, {}));
 
@@ -135,7 +135,8 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   };
 
   // b = (F(P^n) + Q_src - dV/dt) / theta, F accumulated pipe by pipe in pipe order.
-  Eigen::VectorXd rhs(static_cast<Eigen::Index>(nu));
+  Eigen::VectorXd& rhs = rhs_;
+  rhs.resize(static_cast<Eigen::Index>(nu));
   for (std::size_t u = 0; u < nu; ++u) {
     const std::int32_t d = domain_of[u];
     double r = q_src[d];
@@ -152,7 +153,7 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
     if (ub >= 0) rhs[ub] -= q;
   }
   if (theta != 1.0) rhs /= theta;
-  Eigen::VectorXd x;
+  Eigen::VectorXd& x = increment_;
   SEEP_RETURN_IF_ERROR(system_->Solve(rhs, x));
 
   // Per-component budget correction (see the header): alpha_c = R_c / D_c with, in units of
@@ -161,8 +162,10 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   //   D_c = sum_c S / dt + theta sum_bnd C.
   // Interior pipes do not appear: their fluxes cancel exactly in a component's sum.
   const std::size_t nc = component_capacity_.size();
-  std::vector<double> residual(nc, 0.0);
-  std::vector<double> denominator(nc, 0.0);
+  std::vector<double>& residual = residual_;
+  std::vector<double>& denominator = denominator_;
+  residual.assign(nc, 0.0);
+  denominator.assign(nc, 0.0);
   for (std::size_t k = 0; k < nc; ++k) denominator[k] = component_capacity_[k] / dt;
   for (std::size_t u = 0; u < nu; ++u) {
     const std::int32_t d = domain_of[u];

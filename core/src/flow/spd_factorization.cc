@@ -45,10 +45,42 @@ std::string InfoName(Eigen::ComputationInfo info) {
 }
 }  // namespace
 
-// Eigen's CHOLMOD wrapper with its factor in reach, for the replayed refactorization.
+// Eigen's CHOLMOD wrapper with its factor in reach, for the replayed refactorization, and a solve
+// that keeps its dense arrays: Eigen's calls cholmod_solve, which is cholmod_solve2 with arrays
+// allocated and freed at every call (six allocations a solve, at every step of an implicit
+// coupled scene); cholmod_solve2 with handles kept here reuses them, with the same arithmetic.
 class CholmodSupernodal : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
  public:
+  CholmodSupernodal() = default;
+  CholmodSupernodal(const CholmodSupernodal&) = delete;
+  CholmodSupernodal& operator=(const CholmodSupernodal&) = delete;
+  ~CholmodSupernodal() {
+    // Before the base class ends CHOLMOD's common block.
+    for (cholmod_dense** dense : {&x_, &y_, &e_}) cholmod_free_dense(dense, &cholmod());
+  }
+
   cholmod_factor* factor() { return m_cholmodFactor; }
+
+  // x = A^-1 rhs with the current factor; false if CHOLMOD fails.
+  bool SolveInto(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
+    cholmod_dense b{};
+    b.nrow = b.nzmax = b.d = static_cast<std::size_t>(rhs.size());
+    b.ncol = 1;
+    b.x = const_cast<double*>(rhs.data());  // read only: B is an input of cholmod_solve2
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_A, m_cholmodFactor, &b, nullptr, &x_, nullptr, &y_, &e_,
+                        &cholmod())) {
+      return false;
+    }
+    x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), rhs.size());
+    return true;
+  }
+
+ private:
+  cholmod_dense* x_ = nullptr;
+  cholmod_dense* y_ = nullptr;
+  cholmod_dense* e_ = nullptr;
 };
 
 // Both Eigen wrappers are neither copyable nor movable (CHOLMOD keeps a pointer into its
@@ -138,8 +170,7 @@ Status SpdFactorization::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) c
   if (!impl_->factorized) return Internal("flow.linear_solver: Solve before Factorize");
   Eigen::ComputationInfo info;
   if (impl_->cholmod) {
-    x = impl_->cholmod->solve(rhs);
-    info = impl_->cholmod->info();
+    info = impl_->cholmod->SolveInto(rhs, x) ? Eigen::Success : Eigen::NumericalIssue;
   } else {
     x = impl_->ldlt->solve(rhs);
     info = impl_->ldlt->info();

@@ -5,11 +5,12 @@
 
 namespace seep::core {
 
-Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
-                                                  const StorageModel& storage) {
+Status ComputeStorageVolumesInto(const FlowNetwork& network, const StorageModel& storage,
+                                 std::vector<double>* out) {
   SEEP_RETURN_IF_ERROR(ValidateStorageModel(storage));
   const std::size_t n = network.num_domains();
-  std::vector<double> vs(n);
+  std::vector<double>& vs = *out;
+  vs.resize(n);
   const auto role = network.role();
   for (std::size_t d = 0; d < n; ++d) {
     vs[d] = StorageVolumeOf(network, storage, d);
@@ -17,6 +18,13 @@ Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
       return NonPositiveStorageVolume(storage, d, vs[d]);
     }
   }
+  return Status::Ok();
+}
+
+Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
+                                                  const StorageModel& storage) {
+  std::vector<double> vs;
+  SEEP_RETURN_IF_ERROR(ComputeStorageVolumesInto(network, storage, &vs));
   return vs;
 }
 
@@ -29,14 +37,22 @@ Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain,
       "'); set a volume floor (scene.solver.storage_floor_fraction) or fix its pressure");
 }
 
-Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
-                                                     const StorageModel& storage,
-                                                     double bulk_modulus) {
-  SEEP_ASSIGN_OR_RETURN(std::vector<double> capacity, ComputeStorageVolumes(network, storage));
+Status ComputeStorageCapacitiesInto(const FlowNetwork& network, const StorageModel& storage,
+                                    double bulk_modulus, std::vector<double>* out) {
+  SEEP_RETURN_IF_ERROR(ComputeStorageVolumesInto(network, storage, out));
+  std::vector<double>& capacity = *out;
   const auto role = network.role();
   for (std::size_t d = 0; d < capacity.size(); ++d) {
     capacity[d] = role[d] == DomainRole::kFixedPressure ? 0.0 : capacity[d] / bulk_modulus;
   }
+  return Status::Ok();
+}
+
+Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
+                                                     const StorageModel& storage,
+                                                     double bulk_modulus) {
+  std::vector<double> capacity;
+  SEEP_RETURN_IF_ERROR(ComputeStorageCapacitiesInto(network, storage, bulk_modulus, &capacity));
   return capacity;
 }
 

@@ -11,6 +11,14 @@ namespace seep::core {
 Result<CriticalTimeStep> ComputeCriticalTimeStep(const FlowNetwork& network, double bulk_modulus,
                                                  const StorageModel& storage,
                                                  std::span<double> per_domain) {
+  CriticalTimeStepScratch scratch;
+  return ComputeCriticalTimeStep(network, bulk_modulus, storage, per_domain, &scratch);
+}
+
+Result<CriticalTimeStep> ComputeCriticalTimeStep(const FlowNetwork& network, double bulk_modulus,
+                                                 const StorageModel& storage,
+                                                 std::span<double> per_domain,
+                                                 CriticalTimeStepScratch* scratch) {
   if (!(std::isfinite(bulk_modulus) && bulk_modulus > 0.0)) {
     return InvalidArgument("flow.fluid.bulk_modulus: must be finite and > 0 (got " +
                            std::to_string(bulk_modulus) + ")");
@@ -21,9 +29,10 @@ Result<CriticalTimeStep> ComputeCriticalTimeStep(const FlowNetwork& network, dou
                            std::to_string(per_domain.size()) + " entries, expected " +
                            std::to_string(n));
   }
-  SEEP_ASSIGN_OR_RETURN(std::vector<double> vs, ComputeStorageVolumes(network, storage));
-
-  std::vector<double> sum_c(n, 0.0);
+  SEEP_RETURN_IF_ERROR(ComputeStorageVolumesInto(network, storage, &scratch->storage_volume));
+  const std::vector<double>& vs = scratch->storage_volume;
+  std::vector<double>& sum_c = scratch->conductance_sum;
+  sum_c.assign(n, 0.0);
   const auto a = network.pipe_domain_a();
   const auto b = network.pipe_domain_b();
   const auto c = network.pipe_conductance();

@@ -42,6 +42,7 @@
 // right-hand side and one back-substitution. stats() counts each stage.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -112,6 +113,10 @@ class ImplicitSolver {
   std::vector<std::int32_t> boundary_pipes_;
   std::vector<double> storage_diagonal_;
   double storage_diagonal_dt_ = -1.0;
+  // Work arrays of Prepare and Step, kept so that a step allocates nothing.
+  CriticalTimeStepScratch limit_scratch_;
+  Eigen::VectorXd rhs_, increment_;             // b and the solution x = P^{n+1} - P^n per unknown
+  std::vector<double> residual_, denominator_;  // per component
 };
 
 }  // namespace seep::core

@@ -31,6 +31,9 @@ inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& st
 // has V_s <= 0 (a sliver or an unset volume without a floor, physics.md §4.4).
 Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
                                                   const StorageModel& storage);
+// The same into *out, which keeps its allocation from call to call (a solver's per-step refresh).
+Status ComputeStorageVolumesInto(const FlowNetwork& network, const StorageModel& storage,
+                                 std::vector<double>* out);
 
 // The error for a free or source domain whose V_s is not > 0 (names the volume field and domain).
 Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain, double volume);
@@ -40,5 +43,8 @@ Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain,
 Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
                                                      const StorageModel& storage,
                                                      double bulk_modulus);
+// The same into *out (as ComputeStorageVolumesInto).
+Status ComputeStorageCapacitiesInto(const FlowNetwork& network, const StorageModel& storage,
+                                    double bulk_modulus, std::vector<double>* out);
 
 }  // namespace seep::core

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include "seep/core/flow/flow_network.h"
 #include "seep/core/flow/fluid.h"
@@ -30,5 +31,15 @@ struct CriticalTimeStep {
 Result<CriticalTimeStep> ComputeCriticalTimeStep(const FlowNetwork& network, double bulk_modulus,
                                                  const StorageModel& storage,
                                                  std::span<double> per_domain = {});
+
+// What ComputeCriticalTimeStep works in, kept by a caller that calls it at every step so that it
+// allocates nothing once sized.
+struct CriticalTimeStepScratch {
+  std::vector<double> storage_volume, conductance_sum;
+};
+Result<CriticalTimeStep> ComputeCriticalTimeStep(const FlowNetwork& network, double bulk_modulus,
+                                                 const StorageModel& storage,
+                                                 std::span<double> per_domain,
+                                                 CriticalTimeStepScratch* scratch);
 
 }  // namespace seep::core
