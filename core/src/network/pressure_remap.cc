@@ -155,6 +155,54 @@ class HalfEdges {
   std::vector<std::int32_t> face_;
 };
 
+// What the matching indexes by: CSR loops, ids that are particles (>= 0) or wall vertices of the
+// network's own walls, and island hosts among its domains. `which` names the network ("old" or
+// "new") in the message.
+Status CheckLoops(const DomainNetwork& d, const char* which) {
+  const auto loops = [&](const std::vector<std::int32_t>& offsets,
+                         const std::vector<std::int32_t>& ids, const char* field) -> Status {
+    for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+      if (offsets[f] < 0 || offsets[f] > offsets[f + 1]) {
+        return InvalidArgument(
+            fmt::format("remap.{}_network.{}: offsets are not ascending at {}", which, field, f));
+      }
+    }
+    if (offsets.empty() || static_cast<std::size_t>(offsets.back()) != ids.size()) {
+      return InvalidArgument(fmt::format("remap.{}_network.{}: offsets do not end at its {} ids",
+                                         which, field, ids.size()));
+    }
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const std::int32_t id = ids[k];
+      const bool wall = d.walls.IsWallVertex(id);
+      if (id < 0 || (wall && static_cast<std::size_t>(id - d.walls.num_particles) >=
+                                 d.walls.num_vertices())) {
+        return InvalidArgument(fmt::format(
+            "remap.{}_network.{}[{}]: {} is neither a particle nor one of the {} wall vertices",
+            which, field, k, id, d.walls.num_vertices()));
+      }
+    }
+    return Status::Ok();
+  };
+  SEEP_RETURN_IF_ERROR(loops(d.loop_offsets, d.loop_particles, "loop_particles"));
+  SEEP_RETURN_IF_ERROR(loops(d.outer_offsets, d.outer_particles, "outer_particles"));
+  if (d.outer_host_domain.size() + 1 != d.outer_offsets.size()) {
+    return InvalidArgument(
+        fmt::format("remap.{}_network.outer_host_domain: {} hosts for {} islands", which,
+                    d.outer_host_domain.size(), d.outer_offsets.size() - 1));
+  }
+  for (std::size_t o = 0; o < d.outer_host_domain.size(); ++o) {
+    if (d.outer_host_domain[o] >= static_cast<std::int32_t>(d.num_domains())) {
+      return InvalidArgument(fmt::format("remap.{}_network.outer_host_domain[{}]: domain {} of {}",
+                                         which, o, d.outer_host_domain[o], d.num_domains()));
+    }
+  }
+  if (d.loop_offsets.size() != d.num_domains() + 1) {
+    return InvalidArgument(fmt::format("remap.{}_network.loop_offsets: {} entries for {} domains",
+                                       which, d.loop_offsets.size(), d.num_domains()));
+  }
+  return Status::Ok();
+}
+
 std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
   while (parent[static_cast<std::size_t>(x)] != x) {
     auto& p = parent[static_cast<std::size_t>(x)];
@@ -245,6 +293,8 @@ Result<PressureRemapReport> RemapPressures(const DomainNetwork& old_network,
     return InvalidArgument(fmt::format("remap.unmatched_pressure: must be finite (got {})",
                                        options.unmatched_pressure));
   }
+  SEEP_RETURN_IF_ERROR(CheckLoops(old_network, "old"));
+  SEEP_RETURN_IF_ERROR(CheckLoops(new_network, "new"));
   // Union-find over old domains [0, n_old) and new domains [n_old, n_old + n_new).
   std::vector<std::int32_t> parent(n_old + n_new);
   std::iota(parent.begin(), parent.end(), 0);

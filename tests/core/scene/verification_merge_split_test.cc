@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene_test_util.h"
@@ -192,6 +193,38 @@ TEST(PocketPressures, TakeWhatThePocketOpenedInto) {
   EXPECT_DOUBLE_EQ(pressure[4], 7e4);                            // node 2; pocket 3 ignored
   EXPECT_EQ(pressure[5], 42.0);
   EXPECT_EQ(pressure[2], 7e4);  // not a pocket: untouched
+}
+
+// A network the matching cannot index is refused naming the field, before anything is written.
+TEST(PressureRemap, RejectsLoopsItCannotIndex) {
+  auto net = BuildSceneNetwork(scene_test::RandomScene(3));
+  ASSERT_TRUE(net.ok()) << net.status().ToString();
+  const DomainNetwork& good = net->domains;
+  const std::vector<double> p = Pressures(good.num_domains());
+  const auto refused = [&](const DomainNetwork& old_network, const DomainNetwork& new_network,
+                           const std::string& prefix) {
+    std::vector<double> out = {7.0};
+    const auto r = RemapPressures(old_network, p, new_network, {}, &out);
+    ASSERT_FALSE(r.ok()) << prefix;
+    EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(r.status().message().rfind(prefix, 0), 0u) << r.status().message();
+    EXPECT_EQ(out, std::vector<double>{7.0});
+  };
+  DomainNetwork negative = good;
+  negative.loop_particles[5] = -1;
+  refused(negative, good, "remap.old_network.loop_particles[5]: -1 is neither a particle");
+  DomainNetwork no_wall = good;  // no walls: ids from DomainWalls::num_particles on are walls
+  no_wall.walls.num_particles = static_cast<std::int32_t>(net->packing.size());
+  no_wall.loop_particles[2] = no_wall.walls.num_particles;
+  refused(good, no_wall, "remap.new_network.loop_particles[2]: ");
+  DomainNetwork short_offsets = good;
+  short_offsets.loop_offsets.back() -= 1;
+  refused(short_offsets, good, "remap.old_network.loop_particles: offsets do not end");
+  if (good.num_outer_faces() > 0) {
+    DomainNetwork host = good;
+    host.outer_host_domain[0] = static_cast<std::int32_t>(good.num_domains());
+    refused(good, host, "remap.new_network.outer_host_domain[0]: ");
+  }
 }
 
 // A wall vertex's id depends on what else touches the walls: a foot that leaves the floor drops its
