@@ -625,14 +625,13 @@ constexpr int kMaxFlowCheckShares = 64;
 DemContactForces::FlowRun DemContactForces::MatchFlowRun(double max_gap, std::size_t begin,
                                                          std::size_t end,
                                                          std::span<const std::int32_t> i,
-                                                         std::span<const std::int32_t> j,
-                                                         bool locate) const {
+                                                         std::span<const std::int32_t> j) const {
   FlowRun run;
   std::size_t m = 0;
   for (std::size_t k = begin; k < end; ++k) {
     const PairEntry& e = pairs_[k];
     if (!IsFlowContact(e, max_gap)) continue;
-    if (locate && run.count == 0) run.start = m = FirstNotBefore(i, j, e.i, e.j);
+    if (run.count == 0) run.start = m = FirstNotBefore(i, j, e.i, e.j);
     if (m == i.size() || e.i != i[m] || e.j != j[m]) {
       run.ok = false;
       return run;
@@ -646,26 +645,27 @@ DemContactForces::FlowRun DemContactForces::MatchFlowRun(double max_gap, std::si
 bool DemContactForces::FlowContactsAre(double max_gap, std::span<const std::int32_t> i,
                                        std::span<const std::int32_t> j) const {
   if (i.size() != j.size()) return false;
+  // Each share (one without a team) finds its flow contacts where its first one sits in the list
+  // (a pass over the pairs checked every flow update, 2-3 % of a coupled step on one thread). The
+  // lists are equal exactly when every share matched a run and the runs, in share order, tile the
+  // list.
   const auto n = static_cast<std::ptrdiff_t>(pairs_.size());
-  if (!dem_internal::OnTeam(n) || omp_get_max_threads() > kMaxFlowCheckShares) {
-    const FlowRun run = MatchFlowRun(max_gap, 0, pairs_.size(), i, j, false);
-    return run.ok && run.count == i.size();
-  }
-  // Every share finds its flow contacts where its first one sits in the list (a pass over the
-  // pairs checked every flow update, 2-3 % of a coupled step on one thread). The lists are equal
-  // exactly when every share matched a run and the runs, in share order, tile the list.
   FlowRun runs[kMaxFlowCheckShares];
-  int team = 0;
+  int shares = 1;
+  if (!dem_internal::OnTeam(n) || omp_get_max_threads() > kMaxFlowCheckShares) {
+    runs[0] = MatchFlowRun(max_gap, 0, pairs_.size(), i, j);
+  } else {
 #pragma omp parallel
-  {
-    const auto [begin, end] = dem_internal::ThreadShare(n);
-    runs[omp_get_thread_num()] = MatchFlowRun(max_gap, static_cast<std::size_t>(begin),
-                                              static_cast<std::size_t>(end), i, j, true);
+    {
+      const auto [begin, end] = dem_internal::ThreadShare(n);
+      runs[omp_get_thread_num()] = MatchFlowRun(max_gap, static_cast<std::size_t>(begin),
+                                                static_cast<std::size_t>(end), i, j);
 #pragma omp master
-    team = omp_get_num_threads();
+      shares = omp_get_num_threads();
+    }
   }
   std::size_t tiled = 0;
-  for (int t = 0; t < team; ++t) {
+  for (int t = 0; t < shares; ++t) {
     if (!runs[t].ok) return false;
     if (runs[t].count == 0) continue;
     if (runs[t].start != tiled) return false;

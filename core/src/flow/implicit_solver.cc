@@ -57,7 +57,7 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
   }
   SEEP_RETURN_IF_ERROR(network.Validate());
   SEEP_RETURN_IF_ERROR(
-      ComputeStorageCapacitiesInto(network, options_.storage, options_.bulk_modulus, &capacity_));
+      ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus, &capacity_));
   SEEP_ASSIGN_OR_RETURN(limit_, ComputeCriticalTimeStep(network, options_.bulk_modulus,
                                                         options_.storage, {}, &limit_scratch_));
   storage_diagonal_dt_ = -1.0;

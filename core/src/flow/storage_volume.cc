@@ -37,8 +37,8 @@ Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain,
       "'); set a volume floor (scene.solver.storage_floor_fraction) or fix its pressure");
 }
 
-Status ComputeStorageCapacitiesInto(const FlowNetwork& network, const StorageModel& storage,
-                                    double bulk_modulus, std::vector<double>* out) {
+Status ComputeStorageCapacities(const FlowNetwork& network, const StorageModel& storage,
+                                double bulk_modulus, std::vector<double>* out) {
   SEEP_RETURN_IF_ERROR(ComputeStorageVolumesInto(network, storage, out));
   std::vector<double>& capacity = *out;
   const auto role = network.role();
@@ -46,14 +46,6 @@ Status ComputeStorageCapacitiesInto(const FlowNetwork& network, const StorageMod
     capacity[d] = role[d] == DomainRole::kFixedPressure ? 0.0 : capacity[d] / bulk_modulus;
   }
   return Status::Ok();
-}
-
-Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
-                                                     const StorageModel& storage,
-                                                     double bulk_modulus) {
-  std::vector<double> capacity;
-  SEEP_RETURN_IF_ERROR(ComputeStorageCapacitiesInto(network, storage, bulk_modulus, &capacity));
-  return capacity;
 }
 
 }  // namespace seep::core

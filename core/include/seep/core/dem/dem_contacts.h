@@ -245,11 +245,10 @@ class DemContactForces {
     std::size_t start = 0, count = 0;
     bool ok = true;
   };
-  // The flow contacts of pairs [begin, end) against (i, j) from entry 0, or with `locate` from
-  // where the first of them sits in the list (sorted as the pairs are).
+  // The flow contacts of pairs [begin, end) against (i, j) from where the first of them sits in
+  // the list (sorted as the pairs are).
   FlowRun MatchFlowRun(double max_gap, std::size_t begin, std::size_t end,
-                       std::span<const std::int32_t> i, std::span<const std::int32_t> j,
-                       bool locate) const;
+                       std::span<const std::int32_t> i, std::span<const std::int32_t> j) const;
   template <bool kBonds>
   void PairForcesKernel(DemParticles* particles, double dt, bool overwrite, DemCounters* counters);
   Status Evaluate(DemParticles* particles, const std::vector<DemWall>& walls, double dt,

@@ -38,13 +38,10 @@ Status ComputeStorageVolumesInto(const FlowNetwork& network, const StorageModel&
 // The error for a free or source domain whose V_s is not > 0 (names the volume field and domain).
 Status NonPositiveStorageVolume(const StorageModel& storage, std::size_t domain, double volume);
 
-// Storage capacity V_s/K_f (m^2/Pa) of every domain, 0 for fixed-pressure domains: the
-// coefficient of dP/dt in every pressure update. Same checks as ComputeStorageVolumes.
-Result<std::vector<double>> ComputeStorageCapacities(const FlowNetwork& network,
-                                                     const StorageModel& storage,
-                                                     double bulk_modulus);
-// The same into *out (as ComputeStorageVolumesInto).
-Status ComputeStorageCapacitiesInto(const FlowNetwork& network, const StorageModel& storage,
-                                    double bulk_modulus, std::vector<double>* out);
+// Storage capacity V_s/K_f (m^2/Pa) of every domain into *out, 0 for fixed-pressure domains: the
+// coefficient of dP/dt in every pressure update. Same checks as ComputeStorageVolumes; *out keeps
+// its allocation from call to call (the implicit solver's per-step refresh).
+Status ComputeStorageCapacities(const FlowNetwork& network, const StorageModel& storage,
+                                double bulk_modulus, std::vector<double>* out);
 
 }  // namespace seep::core
