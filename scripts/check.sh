@@ -39,7 +39,7 @@ echo "== ThreadSanitizer build of the concurrency tests"
 cmake -S . -B build/tsan "${sanitizer_flags[@]}" \
   -DCMAKE_CXX_FLAGS="-O1 -g1 -fsanitize=thread" -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread \
   >/dev/null
-cmake --build build/tsan -j"$jobs" --target seep_concurrency_tests
+cmake --build build/tsan -j"$jobs" --target seep_concurrency_tests seep_core_team_tests
 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
   ctest --test-dir build/tsan -L concurrency --output-on-failure -j"$jobs"
 stage_done "TSan build and tests"

@@ -1,14 +1,17 @@
-// When a loop of the core goes parallel: below this many items an OpenMP region costs more than
-// it saves (and on a loaded machine a barrier can cost far more). Every parallel loop of the core
-// writes per-item results only, or sums integers, so taking the serial path never changes a
+// When a loop of the core goes parallel: below this many items a team run (core_team.h) costs more
+// than it saves (and on a loaded machine a barrier can cost far more). Every parallel loop of the
+// core writes per-item results only, or sums integers, so taking the serial path never changes a
 // result bit: runs are bit-identical on any thread count.
 #pragma once
 
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <utility>
+
+#include "core_team.h"
 
 namespace seep::core::internal {
 
@@ -18,39 +21,28 @@ namespace seep::core::internal {
 // still gains 1.5-2x.
 inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
 
-// Whether a loop over `n` items goes to a team of the calling thread's core threads; when not,
-// it must run without a parallel region. OpenMP's `if` clause is not enough: false, it still has
-// libgomp make a team of one and end it with a futex wake, about 0.2 us and a system call a
-// region. A step of a small explicit job entered one such region (1,500 a job of a sweep, about
-// 3 % of its time). A loop goes through ForEachShare (or its sum and maximum forms); a block of
-// orphaned `omp for` loops through RunOnCoreThreads.
-inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && omp_get_max_threads() > 1; }
+// The calling thread's core threads (SetCoreThreadsForThisThread; OpenMP's nthreads setting, which
+// also takes OMP_NUM_THREADS): the size of its team (core_team.h).
+inline int CoreThreads() { return omp_get_max_threads(); }
 
-// The calling team member's share of `n` items, [first, second): contiguous, in thread order, and
-// of sizes that differ by one at most, like schedule(static)'s (the bounds may differ from
-// libgomp's by an item; no result depends on them).
-inline std::pair<std::ptrdiff_t, std::ptrdiff_t> ThreadShare(std::ptrdiff_t n) {
-  const std::ptrdiff_t t = omp_get_thread_num();
-  const std::ptrdiff_t team = omp_get_num_threads();
-  return {n * t / team, n * (t + 1) / team};
-}
+// Whether a loop over `n` items goes to a team of the calling thread's core threads; when not,
+// it runs on the calling thread with no team at all.
+inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && CoreThreads() > 1; }
 
 // Runs `range(begin, end)` over [0, n): once per team member on its share when OnTeam(n), else
-// once over [0, n) with no region. `range` is a loop over its bounds, best a call of a function
-// whose pointer parameters are __restrict, with `#pragma omp simd` where the loop vectorises:
-// the closure then costs nothing (see RunOnCoreThreads), and a run on one thread, or a small
-// scene on any, pays no region (a team of one costs 1.2 us and a system call on the 2-core VM).
+// once over [0, n) on the calling thread. `range` is a loop over its bounds, best a call of a
+// function whose pointer parameters are __restrict, with `#pragma omp simd` where the loop
+// vectorises: the closure then costs nothing (see RunOnCoreThreads).
 template <class Range>
 inline void ForEachShare(std::ptrdiff_t n, Range&& range) {
   if (!OnTeam(n)) {
     range(std::ptrdiff_t{0}, n);
     return;
   }
-#pragma omp parallel
-  {
-    const auto [begin, end] = ThreadShare(n);
+  RunOnTeam(CoreThreads(), [&](const TeamMember& member) {
+    const auto [begin, end] = member.Share(n);
     range(begin, end);
-  }
+  });
 }
 
 // The same for a range that returns a count of whole numbers (in a double): their sum, exact in
@@ -58,40 +50,40 @@ inline void ForEachShare(std::ptrdiff_t n, Range&& range) {
 template <class Range>
 inline double SumOverShares(std::ptrdiff_t n, Range&& range) {
   if (!OnTeam(n)) return range(std::ptrdiff_t{0}, n);
-  double sum = 0.0;
-#pragma omp parallel reduction(+ : sum)
-  {
-    const auto [begin, end] = ThreadShare(n);
-    sum += range(begin, end);
-  }
-  return sum;
+  std::atomic<double> sum{0.0};
+  RunOnTeam(CoreThreads(), [&](const TeamMember& member) {
+    const auto [begin, end] = member.Share(n);
+    sum.fetch_add(range(begin, end), std::memory_order_relaxed);
+  });
+  return sum.load(std::memory_order_relaxed);
 }
 
 // The same for a range that returns a maximum (of values >= 0): exact in any order.
 template <class Range>
 inline double MaxOverShares(std::ptrdiff_t n, Range&& range) {
   if (!OnTeam(n)) return range(std::ptrdiff_t{0}, n);
-  double largest = 0.0;
-#pragma omp parallel reduction(max : largest)
-  {
-    const auto [begin, end] = ThreadShare(n);
-    largest = std::max(largest, range(begin, end));
-  }
-  return largest;
+  std::atomic<double> largest{0.0};
+  RunOnTeam(CoreThreads(), [&](const TeamMember& member) {
+    const auto [begin, end] = member.Share(n);
+    const double mine = range(begin, end);
+    double seen = largest.load(std::memory_order_relaxed);
+    while (mine > seen && !largest.compare_exchange_weak(seen, mine, std::memory_order_relaxed)) {
+    }
+  });
+  return largest.load(std::memory_order_relaxed);
 }
 
-// Runs `body`, whose loops are orphaned `omp for` constructs, on a team when OnTeam(n), else
-// inline on this thread with no region (its loops then run every iteration in order, as on a
-// team of one). Not for short vectorised loops: reached through the closure, their pointers no
-// longer vectorise as well (GCC 12: the aperture and coefficient passes lost half their packed
-// arithmetic and the coupled step 6-9 % when they were written this way).
+// Runs `body(member)`, whose loops take the member's share (member.Share) or a stride of blocks,
+// on a team when OnTeam(n), else on this thread as a team of one (TeamMember::Solo: its loops
+// then run every item in order). Not for short vectorised loops: reached through the closure,
+// their pointers no longer vectorise as well (GCC 12: the aperture and coefficient passes lost
+// half their packed arithmetic and the coupled step 6-9 % when they were written this way).
 template <class Body>
 inline void RunOnCoreThreads(std::ptrdiff_t n, Body&& body) {
   if (OnTeam(n)) {
-#pragma omp parallel
-    body();
+    RunOnTeam(CoreThreads(), body);
   } else {
-    std::forward<Body>(body)();
+    body(TeamMember::Solo());
   }
 }
 

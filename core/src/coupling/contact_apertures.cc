@@ -2,6 +2,7 @@
 #include "seep/core/coupling/contact_apertures.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -128,11 +129,16 @@ Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
   if (!internal::OnTeam(n)) {
     LawRange(0, n, law, current, force, gap, keep, out, &changed, &bad);
   } else {
-#pragma omp parallel reduction(+ : changed, bad)
-    {
-      const auto [begin, end] = internal::ThreadShare(n);
-      LawRange(begin, end, law, current, force, gap, keep, out, &changed, &bad);
-    }
+    std::atomic<double> team_changed{0.0}, team_bad{0.0};
+    internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
+      const auto [begin, end] = member.Share(n);
+      double my_changed = 0.0, my_bad = 0.0;
+      LawRange(begin, end, law, current, force, gap, keep, out, &my_changed, &my_bad);
+      team_changed.fetch_add(my_changed, std::memory_order_relaxed);
+      team_bad.fetch_add(my_bad, std::memory_order_relaxed);
+    });
+    changed = team_changed.load(std::memory_order_relaxed);
+    bad = team_bad.load(std::memory_order_relaxed);
   }
   if (bad > 0.0) {
     for (std::size_t p = 0; p < num_pipes; ++p) {

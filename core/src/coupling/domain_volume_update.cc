@@ -160,9 +160,9 @@ void DomainVolumeUpdater::ComputeGeometric(const ParticleView& particles,
   const std::int32_t* loops = network.loop_particles.data();
   const auto domains = static_cast<std::ptrdiff_t>(network.num_domains());
   // Per domain writes only: threads change no bit. (The islands below write their hosts.)
-  internal::RunOnCoreThreads(domains, [&] {
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t d = 0; d < domains; ++d) {
+  internal::RunOnCoreThreads(domains, [&](const internal::TeamMember& member) {
+    const auto [first, last] = member.Share(domains);
+    for (std::ptrdiff_t d = first; d < last; ++d) {
       const LoopMeasure m =
           MeasureLoop<kPore>(particles, loops, loop_entry_term_.data(), term,
                              static_cast<std::size_t>(network.loop_offsets[d]),
@@ -326,9 +326,8 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
   // Every block writes its own edges only: threads change no bit. Blocks are dealt one at a
   // time: the flagged edges cluster (the wall vertices' edges come with the first domains along a
   // wall), and halves would leave them all to one thread.
-  internal::RunOnCoreThreads(edges, [&] {
-#pragma omp for schedule(static, 1)
-    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+  internal::RunOnCoreThreads(edges, [&](const internal::TeamMember& member) {
+    for (std::ptrdiff_t b = member.index(); b < blocks; b += member.size()) {
       const std::ptrdiff_t begin = b * kEdgeBlock;
       EdgeTermsBlock<kBindRadii>(in, begin, std::min(kEdgeBlock, edges - begin), term);
     }

@@ -2,8 +2,6 @@
 // the outer walks (see pressure_forces.h for the rule and its consequences).
 #include "seep/core/coupling/pressure_forces.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -233,7 +231,7 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
     }
   };
   const auto contacts = static_cast<std::ptrdiff_t>(terms_.size());
-  if (contacts < internal::kMinParallelItems || omp_get_max_threads() == 1) {
+  if (!internal::OnTeam(contacts)) {
     // One thread: add each contact's forces straight away, in ascending contact order.
     for (std::ptrdiff_t c = 0; c < contacts; ++c) {
       const SideForces s = forces_of(c);
@@ -250,18 +248,18 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
   const std::int32_t* start = side_start_.data();
   const std::int32_t* items = side_items_.data();
   const auto n = static_cast<std::ptrdiff_t>(side_start_.size()) - 1;
-#pragma omp parallel
-  {
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t c = 0; c < contacts; ++c) {
+  internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
+    const auto [first_contact, last_contact] = member.Share(contacts);
+    for (std::ptrdiff_t c = first_contact; c < last_contact; ++c) {
       const SideForces s = forces_of(c);
       side_x[2 * c] = s.lo_x;
       side_y[2 * c] = s.lo_y;
       side_x[2 * c + 1] = s.hi_x;
       side_y[2 * c + 1] = s.hi_y;
     }
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    member.Barrier();  // the gather reads the other members' slots
+    const auto [first, last] = member.Share(n);
+    for (std::ptrdiff_t i = first; i < last; ++i) {
       const bool vertex = i >= first_vertex;
       double* px = vertex ? out.vertex_fx + (i - first_vertex) : out.fx + i;
       double* py = vertex ? out.vertex_fy + (i - first_vertex) : out.fy + i;
@@ -273,7 +271,7 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
       *px = ax;
       *py = ay;
     }
-  }
+  });
 }
 
 Status OuterArcPressures::Compute(const DomainNetwork& network,

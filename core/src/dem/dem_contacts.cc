@@ -1,9 +1,8 @@
 // Neighbour list, contact and bond forces of the DEM (see dem_contacts.h for the design).
 #include "seep/core/dem/dem_contacts.h"
 
-#include <omp.h>
-
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -369,7 +368,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
       tq[i] += torque;
     }
   };
-  if (!(np >= dem_internal::kMinParallelItems && omp_get_max_threads() > 1)) {
+  if (!(np >= dem_internal::kMinParallelItems && dem_internal::CoreThreads() > 1)) {
     // One thread: each pair adds to the sums of its two particles straight away, in ascending
     // pair order, which is the order of the gather below: the same additions, the same bits,
     // without a slot per pair (32 bytes) or the gather lists (8 bytes a pair).
@@ -401,29 +400,38 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
     PairSlot* __restrict slots = slots_.data();
     const std::int32_t* __restrict start = gather_start_.data();
     const std::int32_t* __restrict items = gather_items_.data();
-    // One parallel region, two loops (pairs, then the gather that needs all of them).
-#pragma omp parallel
-    {
-#pragma omp for schedule(static) reduction(+ : touching, bond_evals, bond_fails)
-      for (std::ptrdiff_t k = 0; k < np; ++k) {
-        slots[k] = evaluate(k, touching, bond_evals, bond_fails);
-      }
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) {
-        double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
-        for (std::int32_t g = start[i]; g < start[i + 1]; ++g) {
-          const std::int32_t it = items[g];
-          const bool side_i = it >= 0;
-          const PairSlot& sl = slots[side_i ? it : ~it];
-          const double sign = side_i ? 1.0 : -1.0;  // exact: x (+-1) only flips the sign
-          ax += sign * sl.fx;
-          ay += sign * sl.fy;
-          ft += sl.ft;
-          if constexpr (kBonds) m += sign * sl.m;
-        }
-        write(i, ax, ay, ft, m);
-      }
-    }
+    // One team run, two loops (pairs, then, after a barrier, the gather that needs all of them).
+    std::atomic<std::uint64_t> team_touching{0}, team_bond_evals{0}, team_bond_fails{0};
+    dem_internal::RunOnTeam(
+        dem_internal::CoreThreads(), [&](const dem_internal::TeamMember& member) {
+          std::uint64_t my_touching = 0, my_bond_evals = 0, my_bond_fails = 0;
+          const auto [first_pair, last_pair] = member.Share(np);
+          for (std::ptrdiff_t k = first_pair; k < last_pair; ++k) {
+            slots[k] = evaluate(k, my_touching, my_bond_evals, my_bond_fails);
+          }
+          team_touching.fetch_add(my_touching, std::memory_order_relaxed);
+          team_bond_evals.fetch_add(my_bond_evals, std::memory_order_relaxed);
+          team_bond_fails.fetch_add(my_bond_fails, std::memory_order_relaxed);
+          member.Barrier();
+          const auto [first, last] = member.Share(n);
+          for (std::ptrdiff_t i = first; i < last; ++i) {
+            double ax = 0.0, ay = 0.0, ft = 0.0, m = 0.0;
+            for (std::int32_t g = start[i]; g < start[i + 1]; ++g) {
+              const std::int32_t it = items[g];
+              const bool side_i = it >= 0;
+              const PairSlot& sl = slots[side_i ? it : ~it];
+              const double sign = side_i ? 1.0 : -1.0;  // exact: x (+-1) only flips the sign
+              ax += sign * sl.fx;
+              ay += sign * sl.fy;
+              ft += sl.ft;
+              if constexpr (kBonds) m += sign * sl.m;
+            }
+            write(i, ax, ay, ft, m);
+          }
+        });
+    touching += team_touching.load(std::memory_order_relaxed);
+    bond_evals += team_bond_evals.load(std::memory_order_relaxed);
+    bond_fails += team_bond_fails.load(std::memory_order_relaxed);
   }
   if (bond_fails != 0) unreported_breaks_ = true;
   if (counters != nullptr) {
@@ -652,17 +660,16 @@ bool DemContactForces::FlowContactsAre(double max_gap, std::span<const std::int3
   const auto n = static_cast<std::ptrdiff_t>(pairs_.size());
   FlowRun runs[kMaxFlowCheckShares];
   int shares = 1;
-  if (!dem_internal::OnTeam(n) || omp_get_max_threads() > kMaxFlowCheckShares) {
+  if (!dem_internal::OnTeam(n) || dem_internal::CoreThreads() > kMaxFlowCheckShares) {
     runs[0] = MatchFlowRun(max_gap, 0, pairs_.size(), i, j);
   } else {
-#pragma omp parallel
-    {
-      const auto [begin, end] = dem_internal::ThreadShare(n);
-      runs[omp_get_thread_num()] = MatchFlowRun(max_gap, static_cast<std::size_t>(begin),
-                                                static_cast<std::size_t>(end), i, j);
-#pragma omp master
-      shares = omp_get_num_threads();
-    }
+    dem_internal::RunOnTeam(
+        dem_internal::CoreThreads(), [&](const dem_internal::TeamMember& member) {
+          const auto [begin, end] = member.Share(n);
+          runs[member.index()] = MatchFlowRun(max_gap, static_cast<std::size_t>(begin),
+                                              static_cast<std::size_t>(end), i, j);
+          if (member.index() == 0) shares = member.size();
+        });
   }
   std::size_t tiled = 0;
   for (int t = 0; t < shares; ++t) {

@@ -5,10 +5,12 @@
 
 namespace seep::core::dem_internal {
 
+using internal::CoreThreads;
 using internal::ForEachShare;
 using internal::kMinParallelItems;
 using internal::MaxOverShares;
 using internal::OnTeam;
-using internal::ThreadShare;
+using internal::RunOnTeam;
+using internal::TeamMember;
 
 }  // namespace seep::core::dem_internal

@@ -215,9 +215,9 @@ class ApertureUpdateEffect final : public Effect {
     const double* r = s.particles.radius.data();
     const auto n = static_cast<std::ptrdiff_t>(pipes);
     // Per pipe writes only: threads change no bit.
-    internal::RunOnCoreThreads(n, [&] {
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t p = 0; p < n; ++p) {
+    internal::RunOnCoreThreads(n, [&](const internal::TeamMember& member) {
+      const auto [first, last] = member.Share(n);
+      for (std::ptrdiff_t p = first; p < last; ++p) {
         const std::int32_t k = pair_of_pipe_[p];
         if (k >= 0) {
           force_[p] = std::max(dem.pair_normal_force(k), 0.0);

@@ -1,8 +1,7 @@
 #include "seep/core/flow/explicit_solver.h"
 
-#include <omp.h>
-
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -237,11 +236,10 @@ struct ShareSweep {
 void SweepOnShares(const ShareSweep& s, Budget* budget) {
   const std::ptrdiff_t n = s.domains;
   const int threads = s.threads;
-#pragma omp parallel num_threads(threads)
-  {
+  internal::RunOnTeam(threads, [&](const internal::TeamMember& member) {
     // A team smaller than asked for takes the shares in turn (as RefreshCoefficients).
-    const int team = omp_get_num_threads();
-    for (int t = omp_get_thread_num(); t < threads; t += team) {
+    const int team = member.size();
+    for (int t = member.index(); t < threads; t += team) {
       const std::ptrdiff_t lo = ShareBegin(n, t, threads);
       const std::ptrdiff_t hi = ShareBegin(n, t + 1, threads);
       if (s.new_gain) {
@@ -258,20 +256,25 @@ void SweepOnShares(const ShareSweep& s, Budget* budget) {
       }
     }
     // Every share has read the pressures it needs before any changes.
-#pragma omp barrier
+    member.Barrier();
     if (budget != nullptr) {
-#pragma omp for ordered schedule(static, 1)
-      for (int t = 0; t < threads; ++t) {
+      for (int t = member.index(); t < threads; t += team) {
         const auto lo = static_cast<std::size_t>(ShareBegin(n, t, threads));
         const auto hi = static_cast<std::size_t>(ShareBegin(n, t + 1, threads));
         UpdateShareKeepingBudgetTerms(lo, hi, s.gain, s.capacity, s.volume_change, s.inv_dt,
                                       s.inflow, s.pressure, s.stored, s.node_outflow);
-#pragma omp ordered
+      }
+      // The sums in share order: share t's member adds once share t - 1's has.
+      for (int t = 0; t < threads; ++t) {
+        member.Barrier();
+        if (t % team != member.index()) continue;
+        const auto lo = static_cast<std::size_t>(ShareBegin(n, t, threads));
+        const auto hi = static_cast<std::size_t>(ShareBegin(n, t + 1, threads));
         SumBudgetTerms(lo, hi, s.capacity, s.volume_change, s.inflow, s.pressure, s.stored,
                        *budget);
       }
     } else {
-      for (int t = omp_get_thread_num(); t < threads; t += team) {
+      for (int t = member.index(); t < threads; t += team) {
         const std::ptrdiff_t lo = ShareBegin(n, t, threads);
         const auto count = static_cast<std::size_t>(ShareBegin(n, t + 1, threads) - lo);
         if (s.volume_change == nullptr) {
@@ -282,7 +285,7 @@ void SweepOnShares(const ShareSweep& s, Budget* budget) {
         }
       }
     }
-  }
+  });
 }
 
 }  // namespace
@@ -326,7 +329,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   // first domain of its share with the least dt_i, and the shares are taken in order, so the
   // limit is the lowest-index domain on ties as in one pass.
   const auto domains = static_cast<std::ptrdiff_t>(n);
-  const int threads = domains >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
+  const int threads = domains >= internal::kMinParallelItems ? internal::CoreThreads() : 1;
   if (threads > 1 && owner_threads_ != threads) IndexPipesByShare(network, threads);
   const std::int32_t* __restrict owner_start = owner_start_.data();
   const std::int32_t* __restrict owner_pipes = owner_pipes_.data();
@@ -340,14 +343,16 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   double* __restrict inflow = inflow_.data();
   const double* __restrict q_src = network.source_rate().data();
   double sources = 0.0;  // a count, exact in any order
-  // The shares' pass; on a team, its flag and count are each thread's own (reduced after).
-  const auto refresh_shares = [&](bool& non_positive_seen, double& source_count) {
+  // The shares first, first + stride, ... of the pass; on a team, its flag and count are each
+  // member's own (reduced after).
+  const auto refresh_shares = [&](int first, int stride, bool& non_positive_seen,
+                                  double& source_count) {
     // sum C per domain, pipe by pipe in pipe order. One thread passes over all pipes; on several,
     // each share of the domains is passed over the pipes touching it (IndexPipesByShare), adding
     // to its own domains only, so every domain gets the same terms in the same order. A team
-    // smaller than asked for (OpenMP may give one) takes the shares in turn.
-    const int team = omp_get_num_threads();
-    for (int t = omp_get_thread_num(); t < threads; t += team) {
+    // smaller than asked for (core_team.h: no more threads could be made) takes the shares in
+    // turn.
+    for (int t = first; t < threads; t += stride) {
       const std::ptrdiff_t lo = ShareBegin(domains, t, threads);
       const std::ptrdiff_t hi = ShareBegin(domains, t + 1, threads);
       const std::int32_t* __restrict a = network.pipe_domain_a().data();
@@ -404,10 +409,19 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
     }
   };
   if (threads > 1) {
-#pragma omp parallel num_threads(threads) reduction(|| : any_non_positive) reduction(+ : sources)
-    refresh_shares(any_non_positive, sources);
-  } else {  // no region: a team of one still costs a futex wake (parallel_threshold.h)
-    refresh_shares(any_non_positive, sources);
+    std::atomic<bool> team_non_positive{false};
+    std::atomic<double> team_sources{0.0};
+    internal::RunOnTeam(threads, [&](const internal::TeamMember& member) {
+      bool non_positive = false;
+      double source_count = 0.0;
+      refresh_shares(member.index(), member.size(), non_positive, source_count);
+      if (non_positive) team_non_positive.store(true, std::memory_order_relaxed);
+      team_sources.fetch_add(source_count, std::memory_order_relaxed);
+    });
+    any_non_positive = team_non_positive.load(std::memory_order_relaxed);
+    sources = team_sources.load(std::memory_order_relaxed);
+  } else {
+    refresh_shares(0, 1, any_non_positive, sources);
   }
   if (any_non_positive) {
     for (std::size_t d = 0; d < n; ++d) {
@@ -495,7 +509,7 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   const double* dv = volume_change.empty() ? nullptr : volume_change.data();
   double* node_outflow = tally != nullptr ? tally->node_outflow_m2.data() : nullptr;
   const int threads =
-      static_cast<std::ptrdiff_t>(n) >= internal::kMinParallelItems ? omp_get_max_threads() : 1;
+      static_cast<std::ptrdiff_t>(n) >= internal::kMinParallelItems ? internal::CoreThreads() : 1;
   Budget b;
   if (threads > 1) {
     if (owner_threads_ != threads) IndexPipesByShare(network, threads);

@@ -197,17 +197,16 @@ bool CoefficientsPass(const FlowNetworkData& d) {
     }
     return bad;
   };
-  // One region for all (or none, on one thread or a small network): each member takes its share
-  // of the domains and of the pipes.
+  // One team run for all (or none, on one thread or a small network): each member takes its
+  // share of the domains and of the pipes.
   if (!internal::OnTeam(std::max(domains, pipes))) return count(0, domains, 0, pipes) == 0.0;
-  double bad = 0.0;
-#pragma omp parallel reduction(+ : bad)
-  {
-    const auto [d_begin, d_end] = internal::ThreadShare(domains);
-    const auto [p_begin, p_end] = internal::ThreadShare(pipes);
-    bad += count(d_begin, d_end, p_begin, p_end);
-  }
-  return bad == 0.0;
+  std::atomic<double> bad{0.0};
+  internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
+    const auto [d_begin, d_end] = member.Share(domains);
+    const auto [p_begin, p_end] = member.Share(pipes);
+    bad.fetch_add(count(d_begin, d_end, p_begin, p_end), std::memory_order_relaxed);
+  });
+  return bad.load(std::memory_order_relaxed) == 0.0;
 }
 
 }  // namespace
