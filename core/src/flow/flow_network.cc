@@ -86,12 +86,27 @@ Status CheckFinitePositive(const char* field, const std::vector<double>& v) {
 }  // namespace
 
 FlowNetwork::FlowNetwork()
-    : topology_version_(NextFlowVersionStamp()), coefficient_version_(NextFlowVersionStamp()) {}
+    : topology_version_(NextFlowVersionStamp()),
+      coefficient_version_(NextFlowVersionStamp()),
+      values_stamp_(NextFlowVersionStamp()) {}
 
 FlowNetwork::FlowNetwork(FlowNetworkData data)
     : data_(std::move(data)),
       topology_version_(NextFlowVersionStamp()),
-      coefficient_version_(NextFlowVersionStamp()) {}
+      coefficient_version_(NextFlowVersionStamp()),
+      values_stamp_(NextFlowVersionStamp()) {}
+
+void FlowNetwork::StampCheckedValues(bool checked) {
+  const bool passed_before = values_passed_.Get() == values_stamp_;
+  values_stamp_ = NextFlowVersionStamp();
+  if (passed_before && checked) values_passed_.Set(values_stamp_);
+}
+
+Status FlowNetwork::Validate() const {
+  SEEP_RETURN_IF_ERROR(Validate(data_));
+  values_passed_.Set(values_stamp_);
+  return Status::Ok();
+}
 
 Result<FlowNetwork> FlowNetwork::Create(FlowNetworkData data) {
   SEEP_RETURN_IF_ERROR(Validate(data));
@@ -153,7 +168,7 @@ namespace {
 // region (the coupled loop validates at each flow update, and its seven passes were seven):
 // per domain and per pipe a branch-free count of what fails. Only a failure pays for the checks
 // in order, which name the first one. False also when the sizes differ (the checks then say how).
-bool CoefficientsPass(const FlowNetworkData& d) {
+bool CoefficientsPass(const FlowNetworkData& d, bool check_all) {
   const std::size_t nd = d.pressure.size();
   const std::size_t np = d.pipe_conductance.size();
   if (d.apparent_volume.size() != nd || d.pore_volume.size() != nd || d.source_rate.size() != nd ||
@@ -163,7 +178,8 @@ bool CoefficientsPass(const FlowNetworkData& d) {
   }
   const bool heads = !d.pipe_head_offset.empty();
   const auto domains = static_cast<std::ptrdiff_t>(nd);
-  const auto pipes = static_cast<std::ptrdiff_t>(np);
+  // Without check_all, the volumes alone.
+  const auto pipes = check_all ? static_cast<std::ptrdiff_t>(np) : std::ptrdiff_t{0};
   const double* apparent = d.apparent_volume.data();
   const double* pore = d.pore_volume.data();
   const double* source = d.source_rate.data();
@@ -179,9 +195,15 @@ bool CoefficientsPass(const FlowNetworkData& d) {
     double bad = 0.0;
 #pragma omp simd reduction(+ : bad)
     for (std::ptrdiff_t i = d_begin; i < d_end; ++i) {
-      const bool ok = FiniteNonNegative(apparent[i]) & FiniteNonNegative(pore[i]) &
-                      (pore[i] <= apparent[i]) & SourceRateFits(source[i], role[i]);
+      const bool ok =
+          FiniteNonNegative(apparent[i]) & FiniteNonNegative(pore[i]) & (pore[i] <= apparent[i]);
       bad += ok ? 0.0 : 1.0;
+    }
+    if (check_all) {
+#pragma omp simd reduction(+ : bad)
+      for (std::ptrdiff_t i = d_begin; i < d_end; ++i) {
+        bad += SourceRateFits(source[i], role[i]) ? 0.0 : 1.0;
+      }
     }
 #pragma omp simd reduction(+ : bad)
     for (std::ptrdiff_t p = p_begin; p < p_end; ++p) {
@@ -211,8 +233,16 @@ bool CoefficientsPass(const FlowNetworkData& d) {
 
 }  // namespace
 
+Status FlowNetwork::ValidateCoefficients() const {
+  // Values known to pass cannot fail the ordered checks either: the message is the same.
+  const bool check_all = values_passed_.Get() != values_stamp_;
+  if (!CoefficientsPass(data_, check_all)) SEEP_RETURN_IF_ERROR(ValidateCoefficients(data_));
+  values_passed_.Set(values_stamp_);
+  return Status::Ok();
+}
+
 Status FlowNetwork::ValidateCoefficients(const FlowNetworkData& d) {
-  if (CoefficientsPass(d)) return Status::Ok();
+  if (CoefficientsPass(d, true)) return Status::Ok();
   SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("apparent_volume", d.apparent_volume));
   SEEP_RETURN_IF_ERROR(CheckFiniteNonNegative("pore_volume", d.pore_volume));
   // Reached only after the one-region pass found a failure: the checks in order, scanning.
@@ -249,11 +279,13 @@ Status FlowNetwork::SetPipeHeadOffsets(std::span<const double> offset) {
   SEEP_RETURN_IF_ERROR(CheckFinite("pipe_head_offset", values));
   data_.pipe_head_offset = std::move(values);
   coefficient_version_ = NextFlowVersionStamp();
+  StampCheckedValues(/*checked=*/true);  // finite: all the checks ask of a head offset
   return Status::Ok();
 }
 
 std::span<double> FlowNetwork::mutable_pipe_conductance() {
   coefficient_version_ = NextFlowVersionStamp();
+  StampCheckedValues(/*checked=*/false);
   return data_.pipe_conductance;
 }
 
@@ -282,15 +314,21 @@ double CountNonPositiveOrNonFinite(std::ptrdiff_t begin, std::ptrdiff_t end,
 }
 
 // The apertures of [begin, end) and their cubic-law conductances a^3 / (12 mu L).
-void WriteCubicLaw(std::ptrdiff_t begin, std::ptrdiff_t end, double viscosity,
-                   const double* __restrict a_in, const double* __restrict length,
-                   double* __restrict a_out, double* __restrict c_out) {
-#pragma omp simd
+// Writes a and C = a^3 / (12 mu L) of pipes [begin, end); returns how many of those C fail
+// ValidateCoefficients' check (finite and > 0: a^3 can underflow or overflow).
+double WriteCubicLaw(std::ptrdiff_t begin, std::ptrdiff_t end, double viscosity,
+                     const double* __restrict a_in, const double* __restrict length,
+                     double* __restrict a_out, double* __restrict c_out) {
+  double bad = 0.0;
+#pragma omp simd reduction(+ : bad)
   for (std::ptrdiff_t p = begin; p < end; ++p) {
     const double a = a_in[p];
     a_out[p] = a;
-    c_out[p] = a * a * a / (12.0 * viscosity * length[p]);
+    const double c = a * a * a / (12.0 * viscosity * length[p]);
+    c_out[p] = c;
+    bad += FinitePositive(c) ? 0.0 : 1.0;
   }
+  return bad;
 }
 
 }  // namespace
@@ -319,10 +357,14 @@ Status FlowNetwork::SetApertures(std::span<const double> aperture, double viscos
     }
   }
   coefficient_version_ = NextFlowVersionStamp();
-  internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    WriteCubicLaw(begin, end, viscosity, a_in, data_.pipe_length.data(), data_.pipe_aperture.data(),
-                  data_.pipe_conductance.data());
-  });
+  const double bad_conductances =
+      internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+        return WriteCubicLaw(begin, end, viscosity, a_in, data_.pipe_length.data(),
+                             data_.pipe_aperture.data(), data_.pipe_conductance.data());
+      });
+  // The apertures passed above (finite and > 0) and the lengths did when they last passed (they
+  // are never written after); a C that failed is left for ValidateCoefficients to name.
+  StampCheckedValues(/*checked=*/bad_conductances == 0.0);
   return Status::Ok();
 }
 
@@ -350,6 +392,7 @@ Status FlowNetwork::SetFixedPressure(std::int32_t domain, double pressure) {
   SetRole(domain, DomainRole::kFixedPressure);
   data_.pressure[domain] = pressure;
   data_.source_rate[domain] = 0.0;
+  StampCheckedValues(/*checked=*/true);  // a finite rate, non-zero for a source only
   return Status::Ok();
 }
 
@@ -361,6 +404,7 @@ Status FlowNetwork::SetSource(std::int32_t domain, double rate) {
   }
   SetRole(domain, DomainRole::kSource);
   data_.source_rate[domain] = rate;
+  StampCheckedValues(/*checked=*/true);  // a finite rate, non-zero for a source only
   return Status::Ok();
 }
 
@@ -368,6 +412,7 @@ Status FlowNetwork::SetFree(std::int32_t domain) {
   SEEP_RETURN_IF_ERROR(CheckDomainIndex(domain, "SetFree"));
   SetRole(domain, DomainRole::kFree);
   data_.source_rate[domain] = 0.0;
+  StampCheckedValues(/*checked=*/true);  // a finite rate, non-zero for a source only
   return Status::Ok();
 }
 

@@ -186,6 +186,87 @@ TEST(FlowNetwork, CoefficientChecksOnThreadsNameTheFirstFailure) {
   omp_set_num_threads(before);
 }
 
+// The member ValidateCoefficients passes over the values other than the volumes only when they
+// changed since they last passed, other than by a write that checked itself; its answer and message
+// are always the static one's, which checks everything. Run on one and on two threads (the lattice
+// is above the team threshold).
+TEST(FlowNetwork, ValidateCoefficientsAfterCheckedWritesGivesTheFullChecksAnswer) {
+  const LatticeParams lp;
+  const FlowNetworkData good = testing::MakeSquareLatticeData(100, 100, lp);
+  const std::size_t pipes = good.pipe_conductance.size();
+  ASSERT_GT(pipes, 8192u);
+  const int before = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const auto expect_same = [&](const FlowNetwork& net, const std::string& named) {
+      const Status member = net.ValidateCoefficients();
+      const Status full = FlowNetwork::ValidateCoefficients(net.data());
+      EXPECT_EQ(member.code(), full.code()) << named << " on " << threads;
+      EXPECT_EQ(member.message(), full.message()) << named << " on " << threads;
+      if (named.empty()) {
+        EXPECT_TRUE(member.ok()) << member.message();
+      } else {
+        EXPECT_NE(member.message().find(named), std::string::npos) << member.message();
+      }
+    };
+    Result<FlowNetwork> created = FlowNetwork::Create(good);
+    ASSERT_TRUE(created.ok());
+    FlowNetwork net = std::move(created).value();
+    expect_same(net, "");  // the pipes pass: from here on they are known to
+    const std::vector<double> apertures(pipes, 2e-5);
+    ASSERT_TRUE(net.SetApertures(apertures, 1e-3).ok());
+    expect_same(net, "");
+    {  // a bad volume after a checked aperture write is still found
+      FlowNetwork edited = net;
+      edited.mutable_pore_volume()[17] = -1.0;
+      expect_same(edited, "pore_volume[17]");
+    }
+    {  // a conductance written through the span is checked again, also after a pass
+      FlowNetwork edited = net;
+      edited.mutable_pipe_conductance()[pipes - 5] = 0.0;
+      expect_same(edited, "pipe_conductance[" + std::to_string(pipes - 5) + "]");
+      ASSERT_TRUE(
+          edited.SetApertures(apertures, 1e-3).ok());  // checked, but over an unchecked state
+      edited.mutable_pipe_conductance()[pipes - 5] = 0.0;
+      expect_same(edited, "pipe_conductance");
+    }
+    {  // an aperture whose cube underflows: SetApertures takes it, the check names the conductance
+      FlowNetwork edited = net;
+      std::vector<double> tiny = apertures;
+      tiny[pipes - 2] = 1e-110;
+      ASSERT_TRUE(edited.SetApertures(tiny, 1e-3).ok());
+      expect_same(edited, "pipe_conductance[" + std::to_string(pipes - 2) + "]");
+      ASSERT_TRUE(edited.SetApertures(apertures, 1e-3).ok());  // mended: passes again
+      expect_same(edited, "");
+    }
+    {  // a head offset that is not finite is refused where it is set
+      FlowNetwork edited = net;
+      std::vector<double> heads(pipes, 0.25);
+      ASSERT_TRUE(edited.SetPipeHeadOffsets(heads).ok());
+      expect_same(edited, "");
+      heads[3] = std::numeric_limits<double>::infinity();
+      EXPECT_FALSE(edited.SetPipeHeadOffsets(heads).ok());
+      expect_same(edited, "");
+    }
+    {  // the role edits keep the rates and roles right: they check themselves
+      FlowNetwork edited = net;
+      ASSERT_TRUE(edited.SetSource(5, 1e-9).ok());
+      expect_same(edited, "");
+      ASSERT_TRUE(edited.SetFixedPressure(6, 1e3).ok());
+      ASSERT_TRUE(edited.SetFree(5).ok());
+      expect_same(edited, "");
+      edited.mutable_apparent_volume()[5] = std::numeric_limits<double>::quiet_NaN();
+      expect_same(edited, "apparent_volume[5]");
+    }
+    // A copy carries the state of its values, not the original's later edits.
+    FlowNetwork copy = net;
+    net.mutable_pipe_conductance()[1] = -1.0;
+    expect_same(net, "pipe_conductance");
+    expect_same(copy, "");
+  }
+  omp_set_num_threads(before);
+}
+
 TEST(FlowNetwork, ZeroStorageOfAFreeDomainIsRefusedBySolvers) {
   auto d = ThreeDomains();
   d.pore_volume[2] = 0.0;
