@@ -103,11 +103,15 @@ class ExplicitSolver {
   std::vector<double> sum_c_;     // sum of the pipe conductances per domain, m^2/(Pa s).
   // Per share of a refresh: its least dt_i (a member, so that a refresh allocates nothing).
   std::vector<CriticalTimeStep> share_limit_;
-  // Per thread share of the domains (contiguous blocks, CSR): the pipes touching it, ascending;
-  // built for owner_threads_ threads on the topology of topology_stamp_ (0: not built).
+  // Per thread share of the domains (contiguous blocks, CSR): the pipes touching it, ascending,
+  // and each one's two ends as the share adds to them: the domain when it is the share's, else
+  // the share's sink slot past the domains (sum_c_ and inflow_ have one per share, never read).
+  // Built for owner_threads_ threads on the topology of topology_stamp_ (0: not built).
   int owner_threads_ = 0;
   std::vector<std::int32_t> owner_start_;
   std::vector<std::int32_t> owner_pipes_;
+  std::vector<std::int32_t> owner_end_a_;
+  std::vector<std::int32_t> owner_end_b_;
   std::vector<double> gain_;  // dt K_f / V_s for gain_dt_.
   double gain_dt_ = -1.0;
   std::vector<double> inflow_;  // accumulator: sum q + Q_src, reset after each step.
