@@ -124,22 +124,17 @@ Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
   double* out = aperture_.data();
   const ApertureLaw law = law_;
   // The counts are sums of 0s and 1s: exact in any order, so threads change no bit.
-  double changed = 0.0, bad = 0.0;
   const auto n = static_cast<std::ptrdiff_t>(num_pipes);
-  if (!internal::OnTeam(n)) {
-    LawRange(0, n, law, current, force, gap, keep, out, &changed, &bad);
-  } else {
-    std::atomic<double> team_changed{0.0}, team_bad{0.0};
-    internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
-      const auto [begin, end] = member.Share(n);
-      double my_changed = 0.0, my_bad = 0.0;
-      LawRange(begin, end, law, current, force, gap, keep, out, &my_changed, &my_bad);
-      team_changed.fetch_add(my_changed, std::memory_order_relaxed);
-      team_bad.fetch_add(my_bad, std::memory_order_relaxed);
-    });
-    changed = team_changed.load(std::memory_order_relaxed);
-    bad = team_bad.load(std::memory_order_relaxed);
-  }
+  std::atomic<double> team_changed{0.0}, team_bad{0.0};
+  internal::RunOnCoreThreads(n, [&](const internal::TeamMember& member) {
+    const auto [begin, end] = member.Share(n);
+    double my_changed = 0.0, my_bad = 0.0;
+    LawRange(begin, end, law, current, force, gap, keep, out, &my_changed, &my_bad);
+    team_changed.fetch_add(my_changed, std::memory_order_relaxed);
+    team_bad.fetch_add(my_bad, std::memory_order_relaxed);
+  });
+  const double changed = team_changed.load(std::memory_order_relaxed);
+  const double bad = team_bad.load(std::memory_order_relaxed);
   if (bad > 0.0) {
     for (std::size_t p = 0; p < num_pipes; ++p) {
       if (keep_[p] != 0.0 || (std::isfinite(pipe_force[p]) && std::isfinite(pipe_gap[p]))) continue;

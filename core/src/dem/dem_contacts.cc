@@ -542,7 +542,7 @@ Status DemContactForces::Evaluate(DemParticles* particles, const std::vector<Dem
                            ")");
   }
   broken_.clear();
-  // The displacement check rides on the packing pass (one parallel region instead of two).
+  // The displacement check rides on the packing pass (one team run instead of two).
   bool rebuild = NeedsRebuild(*particles, walls);
   if (!rebuild) {
     const double half_skin = 0.5 * settings_.skin;

@@ -10,7 +10,7 @@
 namespace seep::core {
 
 // The loops over particles below run per share of the particles (dem_internal::ForEachShare):
-// on a team, or, on one thread or for a small scene, with no OpenMP region at all.
+// on a team, or, on one thread or for a small scene, on the calling thread with no team at all.
 namespace {
 
 void GravityRange(std::ptrdiff_t begin, std::ptrdiff_t end, double gx, double gy,

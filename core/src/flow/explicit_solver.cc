@@ -217,6 +217,12 @@ namespace {
 // Thread t's share of n items: a contiguous block, the same for every pass that uses it.
 std::ptrdiff_t ShareBegin(std::ptrdiff_t n, int t, int threads) { return n * t / threads; }
 
+// The size of a per-domain accumulator the shares add to: the domains, and on shares a sink slot
+// per share past them (IndexPipesByShare).
+std::size_t WithSinkSlots(std::size_t n, int threads) {
+  return n + (threads > 1 ? static_cast<std::size_t>(threads) : 0);
+}
+
 // Capacities V_s / K_f and rates K_f / V_s (as 1 / capacity) of domains [lo, hi), StorageVolumeOf
 // term by term, 0 for fixed domains and non-positive volumes: branch-free so that the divisions,
 // which bounded the refresh, vectorise (GCC if-converts the selects because the core is built
@@ -354,9 +360,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const double bulk = options_.bulk_modulus;
   const auto domains = static_cast<std::ptrdiff_t>(n);
   const int threads = domains >= internal::kMinParallelItems ? internal::CoreThreads() : 1;
-  // A sink slot per share past the domains when on shares (see owner_end_a_).
-  const std::size_t sinks = threads > 1 ? static_cast<std::size_t>(threads) : 0;
-  sum_c_.resize(n + sinks);
+  sum_c_.resize(WithSinkSlots(n, threads));
   capacity_.resize(n);
   rate_.resize(n);
   double* __restrict sum_c = sum_c_.data();
@@ -372,7 +376,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   bool any_non_positive = false;
   // The accumulator starts at zero (the sources are set below), and the step's gains are
   // computed by the first Step (gain_dt_ = -1).
-  inflow_.resize(n + sinks);
+  inflow_.resize(WithSinkSlots(n, threads));
   gain_.resize(n);
   gain_dt_ = -1.0;
   double* __restrict inflow = inflow_.data();
@@ -545,7 +549,7 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   if (threads > 1) {
     if (owner_threads_ != threads) IndexPipesByShare(network, threads);
     // The shares' sink slots (a thread count set since the refresh may ask for more).
-    if (inflow_.size() < n + static_cast<std::size_t>(threads)) inflow_.resize(n + threads);
+    if (inflow_.size() < WithSinkSlots(n, threads)) inflow_.resize(WithSinkSlots(n, threads));
     if (options_.diagnostics) stored_.resize(n);
     const ShareSweep sweep{.domains = static_cast<std::ptrdiff_t>(n),
                            .threads = threads,

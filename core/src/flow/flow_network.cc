@@ -221,9 +221,8 @@ bool CoefficientsPass(const FlowNetworkData& d, bool check_all) {
   };
   // One team run for all (or none, on one thread or a small network): each member takes its
   // share of the domains and of the pipes.
-  if (!internal::OnTeam(std::max(domains, pipes))) return count(0, domains, 0, pipes) == 0.0;
   std::atomic<double> bad{0.0};
-  internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
+  internal::RunOnCoreThreads(std::max(domains, pipes), [&](const internal::TeamMember& member) {
     const auto [d_begin, d_end] = member.Share(domains);
     const auto [p_begin, p_end] = member.Share(pipes);
     bad.fetch_add(count(d_begin, d_end, p_begin, p_end), std::memory_order_relaxed);

@@ -36,8 +36,8 @@
 //
 // Cost: O(contacts on loops) per call, no allocation after Bind. One thread adds each contact's
 // two contributions to its particles in ascending contact order; several threads write them to
-// per-contact slots and then each particle adds its slots one by one in that same order (OpenMP
-// over contacts, then over particles): the same additions in the same order, so the result is
+// per-contact slots and then each particle adds its slots one by one in that same order (a team
+// run over contacts, then over particles): the same additions in the same order, so the result is
 // bit-identical for a given input on any thread count.
 #pragma once
 

@@ -22,7 +22,7 @@
 //
 // Determinism and threads. Forces are computed per pair in parallel into per-pair slots; then each
 // particle sums its own pairs in ascending pair order (no atomics, no thread-dependent sums):
-// results are bit-identical for any OpenMP thread count. On one thread each pair adds to its two
+// results are bit-identical for any thread count. On one thread each pair adds to its two
 // particles' sums as it is computed, in ascending pair order too: the same additions, without
 // the slots and gather lists (40 bytes a pair), which only a pass on threads makes. Wall contacts
 // and bond-break bookkeeping are serial (they are few).
