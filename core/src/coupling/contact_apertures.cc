@@ -65,29 +65,47 @@ Result<ContactApertureReport> ContactApertureUpdater::Update(FlowNetwork& networ
                            std::to_string(gap.size()) + " entries; contact ids up to " +
                            std::to_string(max_contact_) + " are bound");
   }
-  // Per contact -> per pipe (pipes bound to no contact read 0: UpdatePerPipe ignores them).
-  pipe_force_.resize(num_pipes);
-  pipe_gap_.resize(num_pipes);
-  for (std::size_t p = 0; p < num_pipes; ++p) {
-    const std::int32_t c = pipe_contact_[p];
-    pipe_force_[p] = c < 0 ? 0.0 : normal_force[static_cast<std::size_t>(c)];
-    pipe_gap_[p] = c < 0 ? 0.0 : gap[static_cast<std::size_t>(c)];
+  // Per contact -> per pipe, a block at a time (pipes bound to no contact read 0: ignored).
+  const std::int32_t* pipe_contact = pipe_contact_.data();
+  return UpdateByBlocks(
+      network, [&](std::ptrdiff_t begin, std::ptrdiff_t count, double* force, double* gap_out) {
+        for (std::ptrdiff_t k = 0; k < count; ++k) {
+          const std::int32_t c = pipe_contact[begin + k];
+          force[k] = c < 0 ? 0.0 : normal_force[static_cast<std::size_t>(c)];
+          gap_out[k] = c < 0 ? 0.0 : gap[static_cast<std::size_t>(c)];
+        }
+      });
+}
+
+Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
+    FlowNetwork& network, std::span<const double> pipe_force, std::span<const double> pipe_gap) {
+  const std::size_t num_pipes = network.num_pipes();
+  SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
+  if (pipe_force.size() != num_pipes || pipe_gap.size() != num_pipes) {
+    return InvalidArgument("coupling.contact_apertures: pipe_force and pipe_gap have " +
+                           std::to_string(pipe_force.size()) + " and " +
+                           std::to_string(pipe_gap.size()) + " entries, expected " +
+                           std::to_string(num_pipes) + " (one per pipe)");
   }
-  return UpdatePerPipe(network, pipe_force_, pipe_gap_);
+  return UpdateByBlocks(
+      network, [&](std::ptrdiff_t begin, std::ptrdiff_t count, double* force, double* gap) {
+        std::copy_n(pipe_force.begin() + begin, count, force);
+        std::copy_n(pipe_gap.begin() + begin, count, gap);
+      });
 }
 
 namespace {
 
-// The law's apertures of the pipes [begin, end) into `out` (a pipe to keep keeps `current`); adds
-// how many changed and how many had a force or gap that is not finite.
-void LawRange(std::ptrdiff_t begin, std::ptrdiff_t end, const ApertureLaw law,
-              const double* __restrict current, const double* __restrict force,
-              const double* __restrict gap, const double* __restrict keep, double* __restrict out,
-              double* changed_count, double* bad_count) {
+// The law's apertures of `count` pipes into `out` (a pipe to keep keeps `current`); adds how many
+// changed and how many had a force or gap that is not finite.
+void LawRange(std::ptrdiff_t count, const ApertureLaw law, const double* __restrict current,
+              const double* __restrict force, const double* __restrict gap,
+              const double* __restrict keep, double* __restrict out, double* changed_count,
+              double* bad_count) {
   // Branch-free so that it vectorises (Aperture selects between its branches).
   double changed = 0.0, bad = 0.0;
 #pragma omp simd reduction(+ : changed, bad)
-  for (std::ptrdiff_t p = begin; p < end; ++p) {
+  for (std::ptrdiff_t p = 0; p < count; ++p) {
     const double f = force[p], g = gap[p];
     const bool finite =
         (keep[p] != 0.0) | (internal::FiniteBranchFree(f) & internal::FiniteBranchFree(g));
@@ -107,49 +125,60 @@ void LawRange(std::ptrdiff_t begin, std::ptrdiff_t end, const ApertureLaw law,
 
 }  // namespace
 
-Result<ContactApertureReport> ContactApertureUpdater::UpdatePerPipe(
-    FlowNetwork& network, std::span<const double> pipe_force, std::span<const double> pipe_gap) {
+Result<ContactApertureReport> ContactApertureUpdater::UpdateByBlocks(FlowNetwork& network,
+                                                                     const PipeForceGapFill& fill) {
   const std::size_t num_pipes = network.num_pipes();
   SEEP_RETURN_IF_ERROR(CheckBound(num_pipes));
-  if (pipe_force.size() != num_pipes || pipe_gap.size() != num_pipes) {
-    return InvalidArgument("coupling.contact_apertures: pipe_force and pipe_gap have " +
-                           std::to_string(pipe_force.size()) + " and " +
-                           std::to_string(pipe_gap.size()) + " entries, expected " +
-                           std::to_string(num_pipes) + " (one per pipe)");
-  }
   const double* current = network.pipe_aperture().data();
-  const double* force = pipe_force.data();
-  const double* gap = pipe_gap.data();
   const double* keep = keep_.data();
   double* out = aperture_.data();
   const ApertureLaw law = law_;
   // The counts are sums of 0s and 1s: exact in any order, so threads change no bit.
   const auto n = static_cast<std::ptrdiff_t>(num_pipes);
+  const std::ptrdiff_t blocks = (n + kPipeBlock - 1) / kPipeBlock;
   std::atomic<double> team_changed{0.0}, team_bad{0.0};
   internal::RunOnCoreThreads(n, [&](const internal::TeamMember& member) {
-    const auto [begin, end] = member.Share(n);
+    const auto [first_block, last_block] = member.Share(blocks);
+    // The block's force and gap stay in L1 between the fill and the law.
+    alignas(64) double force[kPipeBlock], gap[kPipeBlock];
     double my_changed = 0.0, my_bad = 0.0;
-    LawRange(begin, end, law, current, force, gap, keep, out, &my_changed, &my_bad);
+    for (std::ptrdiff_t b = first_block; b < last_block; ++b) {
+      const std::ptrdiff_t begin = b * kPipeBlock;
+      const std::ptrdiff_t count = std::min(kPipeBlock, n - begin);
+      fill(begin, count, force, gap);
+      LawRange(count, law, current + begin, force, gap, keep + begin, out + begin, &my_changed,
+               &my_bad);
+    }
     team_changed.fetch_add(my_changed, std::memory_order_relaxed);
     team_bad.fetch_add(my_bad, std::memory_order_relaxed);
   });
-  const double changed = team_changed.load(std::memory_order_relaxed);
-  const double bad = team_bad.load(std::memory_order_relaxed);
-  if (bad > 0.0) {
-    for (std::size_t p = 0; p < num_pipes; ++p) {
-      if (keep_[p] != 0.0 || (std::isfinite(pipe_force[p]) && std::isfinite(pipe_gap[p]))) continue;
-      return InvalidArgument(
-          "coupling.contact_apertures: contact " + std::to_string(pipe_contact_[p]) + " (pipe " +
-          std::to_string(p) + "): normal_force and gap must be finite (got " +
-          std::to_string(pipe_force[p]) + ", " + std::to_string(pipe_gap[p]) + ")");
-    }
-  }
+  if (team_bad.load(std::memory_order_relaxed) > 0.0) return NameNonFinite(fill, num_pipes);
   ContactApertureReport report;
-  report.pipes_changed = static_cast<std::int64_t>(changed);
+  report.pipes_changed = static_cast<std::int64_t>(team_changed.load(std::memory_order_relaxed));
   if (report.pipes_changed == 0) return report;
   SEEP_RETURN_IF_ERROR(network.SetApertures(aperture_, viscosity_));
   report.network_written = true;
   return report;
+}
+
+Status ContactApertureUpdater::NameNonFinite(const PipeForceGapFill& fill,
+                                             std::size_t num_pipes) const {
+  double force[kPipeBlock], gap[kPipeBlock];
+  const auto n = static_cast<std::ptrdiff_t>(num_pipes);
+  for (std::ptrdiff_t begin = 0; begin < n; begin += kPipeBlock) {
+    const std::ptrdiff_t count = std::min(kPipeBlock, n - begin);
+    fill(begin, count, force, gap);
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      const auto p = static_cast<std::size_t>(begin + k);
+      if (keep_[p] != 0.0 || (std::isfinite(force[k]) && std::isfinite(gap[k]))) continue;
+      return InvalidArgument("coupling.contact_apertures: contact " +
+                             std::to_string(pipe_contact_[p]) + " (pipe " + std::to_string(p) +
+                             "): normal_force and gap must be finite (got " +
+                             std::to_string(force[k]) + ", " + std::to_string(gap[k]) + ")");
+    }
+  }
+  // The fill gave other numbers the second time: a broken contract, not bad input.
+  return Internal("coupling.contact_apertures: a force or gap was not finite, then was");
 }
 
 }  // namespace seep::core

@@ -193,7 +193,6 @@ class ApertureUpdateEffect final : public Effect {
     if (pair_version_ != dem.pair_table_version()) {
       SEEP_RETURN_IF_ERROR(dem.FindPairs(c.i, c.j, &pair_of_contact_));
       pair_of_pipe_.resize(pipes);
-      foot_pipes_.clear();
       const DomainWalls& walls = s.net.domains.walls;
       for (std::size_t p = 0; p < pipes; ++p) {
         const std::int32_t contact = pipe_contact[p];
@@ -201,32 +200,39 @@ class ApertureUpdateEffect final : public Effect {
           pair_of_pipe_[p] = kNoContact;
         } else if (walls.IsWallEdge(contact)) {
           pair_of_pipe_[p] = kWallFoot;  // a particle-wall contact (stretches carry no pipe here)
-          foot_pipes_.push_back(p);
         } else {
           pair_of_pipe_[p] = pair_of_contact_[static_cast<std::size_t>(contact)];
         }
       }
       pair_version_ = dem.pair_table_version();
     }
-    force_.resize(pipes);
-    gap_.resize(pipes);
+    const bool walls = !s.net.domains.walls.empty();
+    if (walls) {
+      s.contacts->CollectFlowWallContacts(std::numeric_limits<double>::infinity(), s.particles,
+                                          &wall_contacts_, &wall_force_);
+    }
     const double* x = s.particles.x.data();
     const double* y = s.particles.y.data();
     const double* r = s.particles.radius.data();
-    const auto n = static_cast<std::ptrdiff_t>(pipes);
-    // Per pipe writes only: threads change no bit.
-    internal::RunOnCoreThreads(n, [&](const internal::TeamMember& member) {
-      const auto [first, last] = member.Share(n);
-      for (std::ptrdiff_t p = first; p < last; ++p) {
-        const std::int32_t k = pair_of_pipe_[p];
+    const std::int32_t* pair_of_pipe = pair_of_pipe_.data();
+    // A block of pipes at a time, straight into the law (contact_apertures.h): writes per pipe of
+    // the block only, so threads change no bit.
+    const auto fill = [&](std::ptrdiff_t begin, std::ptrdiff_t count, double* force, double* gap) {
+      for (std::ptrdiff_t q = 0; q < count; ++q) {
+        const std::ptrdiff_t p = begin + q;
+        const std::int32_t k = pair_of_pipe[p];
         if (k >= 0) {
-          force_[p] = std::max(dem.pair_normal_force(k), 0.0);
-          gap_[p] = dem.pair_gap(k);
+          force[q] = std::max(dem.pair_normal_force(k), 0.0);
+          gap[q] = dem.pair_gap(k);
           continue;
         }
-        force_[p] = 0.0;
-        gap_[p] = 0.0;
-        if (k == kNoContact || k == kWallFoot) continue;  // kept, or FootForcesAndGaps
+        force[q] = 0.0;
+        gap[q] = 0.0;
+        if (k == kNoContact) continue;  // kept
+        if (k == kWallFoot) {
+          FootForceAndGap(s, static_cast<std::size_t>(p), &force[q], &gap[q]);
+          continue;
+        }
         const auto m = static_cast<std::size_t>(pipe_contact[p]);
         const auto i = static_cast<std::size_t>(c.i[m]);
         const auto j = static_cast<std::size_t>(c.j[m]);
@@ -234,12 +240,11 @@ class ApertureUpdateEffect final : public Effect {
         // overflow.
         const double dx = x[j] - x[i];
         const double dy = y[j] - y[i];
-        gap_[p] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
+        gap[q] = std::sqrt(dx * dx + dy * dy) - (r[i] + r[j]);
       }
-    });
-    if (!s.net.domains.walls.empty()) FootForcesAndGaps(s);
+    };
     ++s.counters.aperture_updates;
-    return updater_->UpdatePerPipe(s.net.flow, force_, gap_).status();
+    return updater_->UpdateByBlocks(s.net.flow, fill).status();
   }
 
  private:
@@ -247,49 +252,42 @@ class ApertureUpdateEffect final : public Effect {
   static constexpr std::int32_t kNoContact = -2;  // a pipe that stands for no contact
   static constexpr std::int32_t kWallFoot = -3;   // a pipe across a particle-wall contact
 
-  // Foot pipes: the gap from the particle and the wall now (the DEM's formula), the compressive
-  // force of the DEM's wall contact (0 when it is not listed or open).
-  void FootForcesAndGaps(const LiveState& s) {
-    s.contacts->CollectFlowWallContacts(std::numeric_limits<double>::infinity(), s.particles,
-                                        &wall_contacts_, &wall_force_);
+  // A foot pipe: the gap from the particle and the wall now (the DEM's formula), the compressive
+  // force of the DEM's wall contact (0 when it is not listed or open), from the wall contacts
+  // collected at this flow update.
+  void FootForceAndGap(const LiveState& s, std::size_t p, double* force, double* gap) const {
     const DomainWalls& walls = s.net.domains.walls;
-    const std::span<const std::int32_t> pipe_contact = s.net.pipe_contact;
-    for (const std::size_t p : foot_pipes_) {
-      const std::size_t e = walls.Edge(pipe_contact[p]);
-      const std::int32_t particle = walls.edge_particle[e];
-      const std::int32_t w = walls.edge_wall[e];
-      const auto i = static_cast<std::size_t>(particle);
-      const DemWall& wall = s.walls[static_cast<std::size_t>(w)];
-      gap_[p] = (s.particles.x[i] - wall.px) * wall.nx + (s.particles.y[i] - wall.py) * wall.ny -
-                s.particles.radius[i];
-      // The list is sorted by (particle, wall).
-      std::size_t lo = 0, hi = wall_contacts_.size();
-      while (lo < hi) {
-        const std::size_t mid = (lo + hi) / 2;
-        const bool before =
-            wall_contacts_.particle[mid] < particle ||
-            (wall_contacts_.particle[mid] == particle && wall_contacts_.wall[mid] < w);
-        if (before) {
-          lo = mid + 1;
-        } else {
-          hi = mid;
-        }
+    const std::size_t e = walls.Edge(s.net.pipe_contact[p]);
+    const std::int32_t particle = walls.edge_particle[e];
+    const std::int32_t w = walls.edge_wall[e];
+    const auto i = static_cast<std::size_t>(particle);
+    const DemWall& wall = s.walls[static_cast<std::size_t>(w)];
+    *gap = (s.particles.x[i] - wall.px) * wall.nx + (s.particles.y[i] - wall.py) * wall.ny -
+           s.particles.radius[i];
+    // The list is sorted by (particle, wall).
+    std::size_t lo = 0, hi = wall_contacts_.size();
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      const bool before =
+          wall_contacts_.particle[mid] < particle ||
+          (wall_contacts_.particle[mid] == particle && wall_contacts_.wall[mid] < w);
+      if (before) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
       }
-      const bool listed = lo < wall_contacts_.size() && wall_contacts_.particle[lo] == particle &&
-                          wall_contacts_.wall[lo] == w;
-      force_[p] = listed ? std::max(wall_force_[lo], 0.0) : 0.0;
     }
+    const bool listed = lo < wall_contacts_.size() && wall_contacts_.particle[lo] == particle &&
+                        wall_contacts_.wall[lo] == w;
+    *force = listed ? std::max(wall_force_[lo], 0.0) : 0.0;
   }
   std::optional<ContactApertureUpdater> updater_;
   std::uint64_t pair_version_ = kNoPairTable;
   std::vector<std::int32_t> pair_of_contact_;  // DEM pair per network contact, or -1
-  std::vector<std::int32_t> pair_of_pipe_;     // DEM pair per pipe, -1 unlisted, kNoContact
-  // The kWallFoot pipes in ascending order: a few hundred of the pipes, which FootForcesAndGaps
-  // visits without a serial pass over them all at every flow update.
-  std::vector<std::size_t> foot_pipes_;
-  std::vector<double> force_, gap_;  // per pipe
-  WallContactList wall_contacts_;    // the DEM's wall contacts at this flow update
-  std::vector<double> wall_force_;   // and their normal forces
+  // DEM pair per pipe, -1 unlisted, kNoContact or kWallFoot.
+  std::vector<std::int32_t> pair_of_pipe_;
+  WallContactList wall_contacts_;   // the DEM's wall contacts at this flow update
+  std::vector<double> wall_force_;  // and their normal forces
 };
 
 }  // namespace

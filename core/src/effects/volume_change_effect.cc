@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "../parallel_threshold.h"
+#include "seep/core/effects/fluid_vertices.h"
 #include "seep/core/log.h"
 
 namespace seep::core {
@@ -42,7 +43,10 @@ void LiveVolumesRange(std::ptrdiff_t begin, std::ptrdiff_t end, bool pore,
 Status VolumeChangeEffect::Bind(LiveState& s, const EffectSet&) { return Rebind(s); }
 
 Status VolumeChangeEffect::Rebind(LiveState& s) {
-  SEEP_RETURN_IF_ERROR(updater_.Bind(vertices_.AtDetection(s), s.net.domains));
+  // The vertices at detection live as long as the Bind: a member held them, a copy of every
+  // particle's position and radius (24 bytes a particle), for the whole run.
+  FluidVertices at_detection;
+  SEEP_RETURN_IF_ERROR(updater_.Bind(at_detection.AtDetection(s), s.net.domains));
   const std::size_t n = s.net.domains.num_domains();
   apparent_.assign(n, 0.0);
   pore_.assign(n, 0.0);
@@ -111,7 +115,8 @@ std::vector<double> VolumeChangeEffect::CurrentPoreVolumes(const LiveState& s) c
   if (s.storage.volume == StorageVolume::kPore || !s.has_network) return out;
   const std::size_t n = s.net.domains.num_domains();
   std::vector<double> apparent(n), pore(n);
-  const Status status = updater_.Compute(vertices_.Current(s), s.net.domains, apparent, pore);
+  FluidVertices now;
+  const Status status = updater_.Compute(now.Current(s), s.net.domains, apparent, pore);
   if (!status.ok()) {
     // The updater is bound to this network by construction; keep the stored V_p and say so.
     Logger()->error("coupling: snapshot keeps the detected pore volumes: {}", status.message());

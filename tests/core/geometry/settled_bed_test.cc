@@ -20,7 +20,7 @@ namespace {
 class SettledBed : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string path = std::string(SEEP_SHARED_DIR) + "/bench/settled_bed_9900.txt";
+    const std::string path = SEEP_SHARED_DIR "/bench/settled_bed_9900.txt";
     Result<Packing> loaded = LoadPackingFile(path);
     if (!loaded.ok() && loaded.status().code() == StatusCode::kNotFound) {
       GTEST_SKIP() << "shared bed not found: " << path;

@@ -13,6 +13,7 @@
 // the flow area would make it O(changed pipes).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -43,11 +44,41 @@ class ContactApertureUpdater {
                                        std::span<const double> gap);
 
   // The same with the force and gap already per pipe (size num_pipes; entries of pipes bound to
-  // -1 are ignored): what a caller holding a pipe -> DEM pair index passes, saving the
-  // per-contact arrays.
+  // -1 are ignored).
   Result<ContactApertureReport> UpdatePerPipe(FlowNetwork& network,
                                               std::span<const double> pipe_force,
                                               std::span<const double> pipe_gap);
+
+  // Pipes per block of UpdateByBlocks.
+  static constexpr std::ptrdiff_t kPipeBlock = 256;
+  // Writes force[k] and gap[k], k < count, of the pipes [begin, begin + count), count <=
+  // kPipeBlock (entries of pipes bound to -1 are ignored). Called on disjoint blocks from the
+  // core's threads at once, and again on one block to name a pipe whose force or gap is not
+  // finite: it must give the same numbers every time.
+  // A reference to such a callable (not a copy, and no allocation, as std::function could make at
+  // every update); the callable must outlive the call it is passed to.
+  class PipeForceGapFill {
+   public:
+    template <class Fill>
+    PipeForceGapFill(const Fill& fill)  // implicit: callers pass a lambda
+        : context_(&fill),
+          call_([](const void* context, std::ptrdiff_t begin, std::ptrdiff_t count, double* force,
+                   double* gap) {
+            (*static_cast<const Fill*>(context))(begin, count, force, gap);
+          }) {}
+    void operator()(std::ptrdiff_t begin, std::ptrdiff_t count, double* force, double* gap) const {
+      call_(context_, begin, count, force, gap);
+    }
+
+   private:
+    const void* context_;
+    void (*call_)(const void*, std::ptrdiff_t, std::ptrdiff_t, double*, double*);
+  };
+  // The same with the force and gap made a block at a time, each block's just before the law
+  // reads them: what the coupled loop passes, reading them from the DEM's pair table, so that
+  // neither it nor the updater holds them per pipe (16 bytes a pipe) and they are not written to
+  // memory and read back.
+  Result<ContactApertureReport> UpdateByBlocks(FlowNetwork& network, const PipeForceGapFill& fill);
 
   const ApertureLaw& law() const { return law_; }
 
@@ -55,6 +86,8 @@ class ContactApertureUpdater {
   ContactApertureUpdater(const ApertureLaw& law, double viscosity)
       : law_(law), viscosity_(viscosity) {}
   Status CheckBound(std::size_t num_pipes) const;
+  // After a block's law found a force or gap that is not finite: the error naming the first.
+  Status NameNonFinite(const PipeForceGapFill& fill, std::size_t num_pipes) const;
 
   ApertureLaw law_;
   double viscosity_;
@@ -62,7 +95,6 @@ class ContactApertureUpdater {
   std::int32_t max_contact_ = -1;
   std::vector<double> aperture_;  // scratch: the apertures written at the last Update
   std::vector<double> keep_;      // per pipe: 1 if bound to no contact (keeps its aperture)
-  std::vector<double> pipe_force_, pipe_gap_;  // scratch of Update: per-contact -> per-pipe
 };
 
 }  // namespace seep::core

@@ -92,9 +92,9 @@ class DomainVolumeUpdater {
   std::vector<std::int32_t> edge_lo_, edge_hi_;
   std::vector<double> edge_x0_, edge_y0_;
   // Per entry of the domain loops and of the outer walks: 2 x (edge to the next entry) + 1 if it
-  // is walked hi -> lo, and the wedge angle at the next entry at Bind.
+  // is walked hi -> lo. (The wedge angles at Bind come from these and the edge vectors when the
+  // radii change, see BindWedgeAngle.)
   std::vector<std::int32_t> loop_entry_term_, outer_entry_term_;
-  std::vector<double> loop_theta0_, outer_theta0_;
   // Radii and sector sums per face at Bind.
   std::vector<double> bind_radius_, bind_loop_sector_, bind_outer_sector_;
   // Per edge, 1/R of its particles at Bind (the lens series needs h/R): streamed, where a

@@ -8,7 +8,6 @@
 
 #include "seep/core/coupling/domain_volume_update.h"
 #include "seep/core/effects/effect.h"
-#include "seep/core/effects/fluid_vertices.h"
 
 namespace seep::core {
 
@@ -30,8 +29,6 @@ class VolumeChangeEffect final : public Effect {
 
  private:
   DomainVolumeUpdater updater_;
-  // Scratch: the wall vertices at detection (Bind), and now for a report outside a step.
-  mutable FluidVertices vertices_;
   std::vector<double> apparent_, pore_;
   std::vector<double> change_;
 };
