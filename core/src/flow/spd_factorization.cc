@@ -138,7 +138,8 @@ Status SpdFactorization::Factorize(const SparseMatrix& lower) {
   impl_->factorized = false;
   Eigen::ComputationInfo info;
   if (impl_->cholmod) {
-    // The replay gives CHOLMOD's bits. A matrix it finds not positive definite goes to CHOLMOD
+    // The replay gives CHOLMOD's bits (or, with its own kernels, its own: see
+    // supernodal_refactorization.h). A matrix it finds not positive definite goes to CHOLMOD
     // itself, which reports the failure; the plan is then made again after CHOLMOD's next
     // success, so that Eigen's wrapper holds the state of a good factorization again.
     if (impl_->replay && impl_->replay->Refactorize(lower, *impl_->cholmod->factor())) {
@@ -151,6 +152,13 @@ Status SpdFactorization::Factorize(const SparseMatrix& lower) {
     info = impl_->cholmod->info();
     if (info == Eigen::Success) {
       impl_->replay = SupernodalRefactorization::Plan(*impl_->cholmod->factor(), lower);
+      // A plan with kernels of its own writes this first factor again with them, so that every
+      // factor of the run has bits that do not depend on the machine's BLAS.
+      if (impl_->replay && impl_->replay->OwnKernels() &&
+          !impl_->replay->Refactorize(lower, *impl_->cholmod->factor())) {
+        impl_->replay.reset();
+        info = Eigen::NumericalIssue;
+      }
     }
   } else {
     impl_->ldlt->factorize(lower);
@@ -166,10 +174,17 @@ Status SpdFactorization::Factorize(const SparseMatrix& lower) {
   return Status::Ok();
 }
 
+bool SpdFactorization::own_kernels() const {
+  return impl_->factorized && impl_->cholmod && impl_->replay && impl_->replay->OwnKernels();
+}
+
 Status SpdFactorization::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const {
   if (!impl_->factorized) return Internal("flow.linear_solver: Solve before Factorize");
   Eigen::ComputationInfo info;
-  if (impl_->cholmod) {
+  if (impl_->cholmod && impl_->replay && impl_->replay->OwnKernels()) {
+    info = impl_->replay->Solve(*impl_->cholmod->factor(), rhs, x) ? Eigen::Success
+                                                                   : Eigen::NumericalIssue;
+  } else if (impl_->cholmod) {
     info = impl_->cholmod->SolveInto(rhs, x) ? Eigen::Success : Eigen::NumericalIssue;
   } else {
     x = impl_->ldlt->solve(rhs);

@@ -31,6 +31,9 @@ class SpdFactorization {
   // Factorizations done by replaying CHOLMOD's arithmetic from a plan of the pattern
   // (supernodal_refactorization.h) rather than by CHOLMOD itself.
   std::int64_t replayed_factorizations() const { return replayed_factorizations_; }
+  // Whether the current factor was made, and is solved, with the plan's own fixed-order kernels
+  // rather than the BLAS (supernodal_refactorization.h): bits that do not depend on the machine.
+  bool own_kernels() const;
 
   LinearSolverKind kind() const { return kind_; }
   // The factorization in use since the last Analyze (kind() itself unless that is kAuto).

@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cmath>
 
 // The Fortran BLAS and LAPACK entry points CHOLMOD itself calls (cholmod_blas.h: 32-bit
 // integers, no hidden string lengths). Declared here, not taken from a C interface, so that the
@@ -20,6 +21,50 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 }
 
 namespace seep::core::flow_internal {
+namespace {
+
+// The kernels of a plan small enough for them (OwnKernels): every element summed in one order,
+// with no fused multiply-add (-ffp-contract=off), so that the factor's bits are the same on any
+// x86-64 machine for a given build. OpenBLAS picks its kernels for the CPU it runs on, and they
+// round differently (the Terzaghi examples ended with other hashes under OPENBLAS_CORETYPE
+// Sandybridge, Nehalem or SkylakeX than on this machine's Haswell kernels): a job resumed on a
+// worker with another CPU went on with other bits. On small supernodes these loops are also
+// cheaper than a BLAS call, whose entry and buffer lock cost more than its arithmetic.
+
+// CHOLMOD's C = L1 [L1; L2]' of one descendant: c(i, j) = sum_k d(i, k) d(j, k) for the
+// columns j < n1 and the rows i in [j, n2), with k ascending (dsyrk and dgemm of the BLAS path).
+void DescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, double* c, int ldc) {
+  for (int j = 0; j < n1; ++j) {
+    double* cj = c + static_cast<std::ptrdiff_t>(ldc) * j;
+    std::fill(cj + j, cj + n2, 0.0);
+    for (int k = 0; k < ncol; ++k) {
+      const double* dk = d + static_cast<std::ptrdiff_t>(ldd) * k;
+      const double djk = dk[j];
+      for (int i = j; i < n2; ++i) cj[i] += dk[i] * djk;
+    }
+  }
+}
+
+// The supernode's columns in place: the Cholesky factor of its diagonal block and the rows below
+// divided by its transpose (dpotrf and dtrsm of the BLAS path), left-looking, column by column.
+// False if a pivot is not positive (or not a number).
+bool FactorColumns(double* a, int nsrow, int nscol) {
+  for (int j = 0; j < nscol; ++j) {
+    double* aj = a + static_cast<std::ptrdiff_t>(nsrow) * j;
+    for (int k = 0; k < j; ++k) {
+      const double* ak = a + static_cast<std::ptrdiff_t>(nsrow) * k;
+      const double ajk = ak[j];
+      for (int i = j; i < nsrow; ++i) aj[i] -= ak[i] * ajk;
+    }
+    if (!(aj[j] > 0.0)) return false;
+    const double pivot = std::sqrt(aj[j]);
+    aj[j] = pivot;
+    for (int i = j + 1; i < nsrow; ++i) aj[i] /= pivot;
+  }
+  return true;
+}
+
+}  // namespace
 
 std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
     const cholmod_factor& L, const SparseMatrix& lower) {
@@ -38,6 +83,17 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
 
   SupernodalRefactorization plan;
   plan.factor_size_ = static_cast<std::size_t>(lpx[nsuper]);
+  plan.n_ = n;
+  plan.own_kernels_ = true;
+  for (int s = 0; s < nsuper; ++s) {
+    if (lpi[s + 1] - lpi[s] > kOwnKernelMaxRows) plan.own_kernels_ = false;
+  }
+  plan.super_.assign(super, super + nsuper + 1);
+  plan.row_.assign(ls, ls + lpi[nsuper]);
+  plan.row_start_.assign(lpi, lpi + nsuper + 1);
+  plan.perm_.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) plan.perm_[k] = perm ? perm[k] : k;
+  plan.work_.resize(static_cast<std::size_t>(n));
   plan.update_.resize(std::max<std::size_t>(L.maxcsize, 1));
 
   std::vector<int> inverse_perm(static_cast<std::size_t>(n));
@@ -158,6 +214,18 @@ bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_f
   }
   double* c = update_.data();
   int update = 0;
+  if (own_kernels_) {
+    for (const Supernode& s : supernodes_) {
+      for (; update < s.updates_end; ++update) {
+        const Update& u = updates_[update];
+        DescendantProducts(lx + u.pdx1, u.ndrow, u.ndrow1, u.ndrow2, u.ndcol, c, u.ndrow2);
+        ScatterUpdate(u, s, c, lx);
+      }
+      if (!FactorColumns(lx + s.psx, s.nsrow, s.nscol)) return false;
+    }
+    L.minor = L.n;
+    return true;
+  }
   for (const Supernode& s : supernodes_) {
     for (; update < s.updates_end; ++update) {
       const Update& u = updates_[update];
@@ -167,12 +235,7 @@ bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_f
         dgemm_("N", "C", &ndrow3, &u.ndrow1, &u.ndcol, &kOne, lx + u.pdx1 + u.ndrow1, &u.ndrow,
                lx + u.pdx1, &u.ndrow, &kZero, c + u.ndrow1, &u.ndrow2);
       }
-      const int* map = relative_map_.data() + u.map_begin;
-      for (int j = 0; j < u.ndrow1; ++j) {
-        double* column = lx + s.psx + map[j] * s.nsrow;
-        const double* cj = c + static_cast<std::ptrdiff_t>(u.ndrow2) * j;
-        for (int i = j; i < u.ndrow2; ++i) column[map[i]] -= cj[i];
-      }
+      ScatterUpdate(u, s, c, lx);
     }
     int info = 1;
     dpotrf_("L", &s.nscol, lx + s.psx, &s.nsrow, &info);
@@ -184,6 +247,52 @@ bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_f
     }
   }
   L.minor = L.n;
+  return true;
+}
+
+void SupernodalRefactorization::ScatterUpdate(const Update& u, const Supernode& s, const double* c,
+                                              double* lx) const {
+  const int* map = relative_map_.data() + u.map_begin;
+  for (int j = 0; j < u.ndrow1; ++j) {
+    double* column = lx + s.psx + map[j] * s.nsrow;
+    const double* cj = c + static_cast<std::ptrdiff_t>(u.ndrow2) * j;
+    for (int i = j; i < u.ndrow2; ++i) column[map[i]] -= cj[i];
+  }
+}
+
+bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::VectorXd& rhs,
+                                      Eigen::VectorXd& x) const {
+  if (!own_kernels_ || rhs.size() != n_ || static_cast<int>(L.n) != n_) return false;
+  const double* lx = static_cast<const double*>(L.x);
+  double* y = work_.data();
+  for (int k = 0; k < n_; ++k) y[k] = rhs[perm_[k]];  // y = P b
+  const auto nsuper = static_cast<int>(supernodes_.size());
+  // L y' = y: each supernode's columns in turn, each column's rows below pushed down at once.
+  for (int s = 0; s < nsuper; ++s) {
+    const Supernode& sn = supernodes_[s];
+    const int k1 = super_[s];
+    const int* rows = row_.data() + row_start_[s];
+    for (int j = 0; j < sn.nscol; ++j) {
+      const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
+      const double yj = y[k1 + j] / lj[j];
+      y[k1 + j] = yj;
+      for (int i = j + 1; i < sn.nsrow; ++i) y[rows[i]] -= lj[i] * yj;
+    }
+  }
+  // L' z = y': supernodes and columns backwards, each column's dot product with the rows below.
+  for (int s = nsuper - 1; s >= 0; --s) {
+    const Supernode& sn = supernodes_[s];
+    const int k1 = super_[s];
+    const int* rows = row_.data() + row_start_[s];
+    for (int j = sn.nscol - 1; j >= 0; --j) {
+      const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
+      double t = y[k1 + j];
+      for (int i = j + 1; i < sn.nsrow; ++i) t -= lj[i] * y[rows[i]];
+      y[k1 + j] = t / lj[j];
+    }
+  }
+  x.resize(n_);
+  for (int k = 0; k < n_; ++k) x[perm_[k]] = y[k];  // x = P' z
   return true;
 }
 

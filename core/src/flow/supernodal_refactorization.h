@@ -10,6 +10,13 @@
 // same arrays, and leaves out only the bookkeeping: the linked lists of pending descendants and
 // the relative maps are the same at every factorization of a pattern, so they are worked out
 // once. The factor it writes is CHOLMOD's own (L->x), so CHOLMOD's solve uses it unchanged.
+//
+// A pattern whose supernodes all have at most kOwnKernelMaxRows rows (every implicit coupled
+// scene of the examples) is factorized and solved with kernels of its own instead of the BLAS
+// (OwnKernels): the same arithmetic in one fixed order, so that the bits do not depend on the
+// BLAS the machine has (OpenBLAS chooses its kernels per CPU, and they round differently), and
+// without a BLAS call's fixed cost, which is most of a small supernode's. Larger patterns keep
+// OpenBLAS's blocked kernels (the README's known limitation).
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -34,6 +41,19 @@ class SupernodalRefactorization {
   // CHOLMOD factorize it (which reports a failure and its column the way CHOLMOD does).
   bool Refactorize(const SparseMatrix& lower, cholmod_factor_struct& L);
 
+  // Whether the plan factorizes with its own kernels (see above); only then is Solve available.
+  bool OwnKernels() const { return own_kernels_; }
+
+  // x = A^-1 rhs with the factor L that Refactorize wrote, with the same fixed-order arithmetic
+  // (permuted forward and back substitution over the supernodes). False when the plan does not
+  // use its own kernels, or for another size.
+  bool Solve(const cholmod_factor_struct& L, const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
+
+  // The largest supernode (rows) of a pattern factorized with the plan's own kernels: up to it a
+  // supernode's columns stay in L1/L2 and the loops beat a BLAS call; beyond, OpenBLAS's blocking
+  // wins (the steady solve of 1e6 unknowns has supernodes of thousands of rows).
+  static constexpr int kOwnKernelMaxRows = 256;
+
  private:
   struct Supernode {
     int psx;    // first entry of the supernode in L->x
@@ -57,6 +77,15 @@ class SupernodalRefactorization {
   std::vector<int> value_slot_;    // per stored entry of `lower`: its place in L->x, or -1
   std::vector<double> update_;     // CHOLMOD's C (L->maxcsize)
   std::size_t factor_size_ = 0;    // entries of L->x the supernodes use
+
+  // C's entries subtracted from the supernode's columns through the relative map.
+  void ScatterUpdate(const Update& u, const Supernode& s, const double* c, double* lx) const;
+
+  bool own_kernels_ = false;
+  int n_ = 0;
+  // For Solve: L's supernode columns (L->super), row indices (L->s, L->pi) and permutation.
+  std::vector<int> super_, row_, row_start_, perm_;
+  mutable std::vector<double> work_;  // the permuted right-hand side, solved in place
 };
 
 }  // namespace seep::core::flow_internal
