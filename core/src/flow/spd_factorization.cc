@@ -181,7 +181,7 @@ bool SpdFactorization::own_kernels() const {
 Status SpdFactorization::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const {
   if (!impl_->factorized) return Internal("flow.linear_solver: Solve before Factorize");
   Eigen::ComputationInfo info;
-  if (impl_->cholmod && impl_->replay && impl_->replay->OwnKernels()) {
+  if (own_kernels()) {
     info = impl_->replay->Solve(*impl_->cholmod->factor(), rhs, x) ? Eigen::Success
                                                                    : Eigen::NumericalIssue;
   } else if (impl_->cholmod) {

@@ -33,7 +33,7 @@ namespace {
 
 // CHOLMOD's C = L1 [L1; L2]' of one descendant: c(i, j) = sum_k d(i, k) d(j, k) for the
 // columns j < n1 and the rows i in [j, n2), with k ascending (dsyrk and dgemm of the BLAS path).
-void DescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, double* c, int ldc) {
+void OwnDescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, double* c, int ldc) {
   for (int j = 0; j < n1; ++j) {
     double* cj = c + static_cast<std::ptrdiff_t>(ldc) * j;
     std::fill(cj + j, cj + n2, 0.0);
@@ -48,7 +48,7 @@ void DescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, doub
 // The supernode's columns in place: the Cholesky factor of its diagonal block and the rows below
 // divided by its transpose (dpotrf and dtrsm of the BLAS path), left-looking, column by column.
 // False if a pivot is not positive (or not a number).
-bool FactorColumns(double* a, int nsrow, int nscol) {
+bool OwnFactorColumns(double* a, int nsrow, int nscol) {
   for (int j = 0; j < nscol; ++j) {
     double* aj = a + static_cast<std::ptrdiff_t>(nsrow) * j;
     for (int k = 0; k < j; ++k) {
@@ -83,17 +83,11 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
 
   SupernodalRefactorization plan;
   plan.factor_size_ = static_cast<std::size_t>(lpx[nsuper]);
-  plan.n_ = n;
   plan.own_kernels_ = true;
   for (int s = 0; s < nsuper; ++s) {
     if (lpi[s + 1] - lpi[s] > kOwnKernelMaxRows) plan.own_kernels_ = false;
   }
-  plan.super_.assign(super, super + nsuper + 1);
-  plan.row_.assign(ls, ls + lpi[nsuper]);
-  plan.row_start_.assign(lpi, lpi + nsuper + 1);
-  plan.perm_.resize(static_cast<std::size_t>(n));
-  for (int k = 0; k < n; ++k) plan.perm_[k] = perm ? perm[k] : k;
-  plan.work_.resize(static_cast<std::size_t>(n));
+  if (plan.own_kernels_) plan.work_.resize(static_cast<std::size_t>(n));
   plan.update_.resize(std::max<std::size_t>(L.maxcsize, 1));
 
   std::vector<int> inverse_perm(static_cast<std::size_t>(n));
@@ -198,8 +192,6 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
 }
 
 bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_factor& L) {
-  static constexpr double kOne = 1.0;
-  static constexpr double kZero = 0.0;
   // Not the planned pattern (a caller's contract broken): CHOLMOD itself, which plans again.
   const auto nonzeros = static_cast<std::ptrdiff_t>(value_slot_.size());
   if (lower.nonZeros() != nonzeros || lower.rows() != static_cast<Eigen::Index>(L.n) ||
@@ -214,39 +206,45 @@ bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_f
   }
   double* c = update_.data();
   int update = 0;
-  if (own_kernels_) {
-    for (const Supernode& s : supernodes_) {
-      for (; update < s.updates_end; ++update) {
-        const Update& u = updates_[update];
-        DescendantProducts(lx + u.pdx1, u.ndrow, u.ndrow1, u.ndrow2, u.ndcol, c, u.ndrow2);
-        ScatterUpdate(u, s, c, lx);
-      }
-      if (!FactorColumns(lx + s.psx, s.nsrow, s.nscol)) return false;
-    }
-    L.minor = L.n;
-    return true;
-  }
   for (const Supernode& s : supernodes_) {
     for (; update < s.updates_end; ++update) {
       const Update& u = updates_[update];
-      dsyrk_("L", "N", &u.ndrow1, &u.ndcol, &kOne, lx + u.pdx1, &u.ndrow, &kZero, c, &u.ndrow2);
-      const int ndrow3 = u.ndrow2 - u.ndrow1;
-      if (ndrow3 > 0) {
-        dgemm_("N", "C", &ndrow3, &u.ndrow1, &u.ndcol, &kOne, lx + u.pdx1 + u.ndrow1, &u.ndrow,
-               lx + u.pdx1, &u.ndrow, &kZero, c + u.ndrow1, &u.ndrow2);
-      }
+      DescendantProducts(u, lx, c);
       ScatterUpdate(u, s, c, lx);
     }
-    int info = 1;
-    dpotrf_("L", &s.nscol, lx + s.psx, &s.nsrow, &info);
-    if (info != 0) return false;
-    const int nsrow2 = s.nsrow - s.nscol;
-    if (nsrow2 > 0) {
-      dtrsm_("R", "L", "C", "N", &nsrow2, &s.nscol, &kOne, lx + s.psx, &s.nsrow,
-             lx + s.psx + s.nscol, &s.nsrow);
-    }
+    if (!FactorSupernode(s, lx)) return false;
   }
   L.minor = L.n;
+  return true;
+}
+
+void SupernodalRefactorization::DescendantProducts(const Update& u, const double* lx,
+                                                   double* c) const {
+  if (own_kernels_) {
+    OwnDescendantProducts(lx + u.pdx1, u.ndrow, u.ndrow1, u.ndrow2, u.ndcol, c, u.ndrow2);
+    return;
+  }
+  static constexpr double kOne = 1.0;
+  static constexpr double kZero = 0.0;
+  dsyrk_("L", "N", &u.ndrow1, &u.ndcol, &kOne, lx + u.pdx1, &u.ndrow, &kZero, c, &u.ndrow2);
+  const int ndrow3 = u.ndrow2 - u.ndrow1;
+  if (ndrow3 > 0) {
+    dgemm_("N", "C", &ndrow3, &u.ndrow1, &u.ndcol, &kOne, lx + u.pdx1 + u.ndrow1, &u.ndrow,
+           lx + u.pdx1, &u.ndrow, &kZero, c + u.ndrow1, &u.ndrow2);
+  }
+}
+
+bool SupernodalRefactorization::FactorSupernode(const Supernode& s, double* lx) const {
+  if (own_kernels_) return OwnFactorColumns(lx + s.psx, s.nsrow, s.nscol);
+  int info = 1;
+  dpotrf_("L", &s.nscol, lx + s.psx, &s.nsrow, &info);
+  if (info != 0) return false;
+  const int nsrow2 = s.nsrow - s.nscol;
+  if (nsrow2 > 0) {
+    static constexpr double kOne = 1.0;
+    dtrsm_("R", "L", "C", "N", &nsrow2, &s.nscol, &kOne, lx + s.psx, &s.nsrow, lx + s.psx + s.nscol,
+           &s.nsrow);
+  }
   return true;
 }
 
@@ -262,16 +260,23 @@ void SupernodalRefactorization::ScatterUpdate(const Update& u, const Supernode& 
 
 bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::VectorXd& rhs,
                                       Eigen::VectorXd& x) const {
-  if (!own_kernels_ || rhs.size() != n_ || static_cast<int>(L.n) != n_) return false;
+  const auto n = static_cast<int>(L.n);
+  if (!own_kernels_ || rhs.size() != n || work_.size() != L.n) return false;
+  // L's own arrays (Plan checked their kind): the supernodes' first columns, their rows, the
+  // permutation (none: the identity).
   const double* lx = static_cast<const double*>(L.x);
+  const int* super = static_cast<const int*>(L.super);
+  const int* lpi = static_cast<const int*>(L.pi);
+  const int* ls = static_cast<const int*>(L.s);
+  const int* perm = static_cast<const int*>(L.Perm);
   double* y = work_.data();
-  for (int k = 0; k < n_; ++k) y[k] = rhs[perm_[k]];  // y = P b
+  for (int k = 0; k < n; ++k) y[k] = rhs[perm ? perm[k] : k];  // y = P b
   const auto nsuper = static_cast<int>(supernodes_.size());
   // L y' = y: each supernode's columns in turn, each column's rows below pushed down at once.
   for (int s = 0; s < nsuper; ++s) {
     const Supernode& sn = supernodes_[s];
-    const int k1 = super_[s];
-    const int* rows = row_.data() + row_start_[s];
+    const int k1 = super[s];
+    const int* rows = ls + lpi[s];
     for (int j = 0; j < sn.nscol; ++j) {
       const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
       const double yj = y[k1 + j] / lj[j];
@@ -282,8 +287,8 @@ bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::Vect
   // L' z = y': supernodes and columns backwards, each column's dot product with the rows below.
   for (int s = nsuper - 1; s >= 0; --s) {
     const Supernode& sn = supernodes_[s];
-    const int k1 = super_[s];
-    const int* rows = row_.data() + row_start_[s];
+    const int k1 = super[s];
+    const int* rows = ls + lpi[s];
     for (int j = sn.nscol - 1; j >= 0; --j) {
       const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
       double t = y[k1 + j];
@@ -291,8 +296,8 @@ bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::Vect
       y[k1 + j] = t / lj[j];
     }
   }
-  x.resize(n_);
-  for (int k = 0; k < n_; ++k) x[perm_[k]] = y[k];  // x = P' z
+  x.resize(n);
+  for (int k = 0; k < n; ++k) x[perm ? perm[k] : k] = y[k];  // x = P' z
   return true;
 }
 

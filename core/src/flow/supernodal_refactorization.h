@@ -78,14 +78,16 @@ class SupernodalRefactorization {
   std::vector<double> update_;     // CHOLMOD's C (L->maxcsize)
   std::size_t factor_size_ = 0;    // entries of L->x the supernodes use
 
+  // CHOLMOD's C of one descendant into c (the own kernels or the BLAS).
+  void DescendantProducts(const Update& u, const double* lx, double* c) const;
   // C's entries subtracted from the supernode's columns through the relative map.
   void ScatterUpdate(const Update& u, const Supernode& s, const double* c, double* lx) const;
+  // The supernode's columns factorized in place (the own kernels, or dpotrf and dtrsm); false if
+  // a pivot is not positive.
+  bool FactorSupernode(const Supernode& s, double* lx) const;
 
   bool own_kernels_ = false;
-  int n_ = 0;
-  // For Solve: L's supernode columns (L->super), row indices (L->s, L->pi) and permutation.
-  std::vector<int> super_, row_, row_start_, perm_;
-  mutable std::vector<double> work_;  // the permuted right-hand side, solved in place
+  mutable std::vector<double> work_;  // Solve's permuted right-hand side, solved in place
 };
 
 }  // namespace seep::core::flow_internal

@@ -1,9 +1,9 @@
 // How many threads the core's parallel loops (its thread team, core/src/core_team.h; the count is
-// OpenMP's setting) use on the calling thread. Results do not
-// depend on it (every parallel loop is bit-identical on any thread count); only speed does. A
-// job service that runs several jobs at once gives each its share of the cores: two jobs of two
-// threads each on two cores wait at every barrier for a descheduled thread, which was measured
-// to slow a coupled step down up to 100x.
+// OpenMP's setting) use on the calling thread. Results do not depend on it (every parallel loop
+// is bit-identical on any thread count); only speed does. A job service that runs several jobs
+// at once gives each its share of the cores: two jobs of two threads each on two cores wait at
+// every barrier for a descheduled thread, which was measured to slow a coupled step down up to
+// 100x.
 #pragma once
 
 namespace seep::core {
