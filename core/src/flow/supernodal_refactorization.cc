@@ -31,35 +31,84 @@ namespace {
 // worker with another CPU went on with other bits. On small supernodes these loops are also
 // cheaper than a BLAS call, whose entry and buffer lock cost more than its arithmetic.
 
-// CHOLMOD's C = L1 [L1; L2]' of one descendant: c(i, j) = sum_k d(i, k) d(j, k) for the
-// columns j < n1 and the rows i in [j, n2), with k ascending (dsyrk and dgemm of the BLAS path).
-void OwnDescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, double* c, int ldc) {
-  for (int j = 0; j < n1; ++j) {
-    double* cj = c + static_cast<std::ptrdiff_t>(ldc) * j;
-    std::fill(cj + j, cj + n2, 0.0);
-    for (int k = 0; k < ncol; ++k) {
-      const double* dk = d + static_cast<std::ptrdiff_t>(ldd) * k;
-      const double djk = dk[j];
-      for (int i = j; i < n2; ++i) cj[i] += dk[i] * djk;
+// Both kernels keep each element's running sum in registers over the whole k loop, a block of
+// rows at a time (8, then 4, 2 and 1 for what is left; vectorised across the rows): the same
+// operations in the same order per element as a loop that stores after every k, so the same
+// bits, without a load and a store of every element for every k, and with a block's chains
+// interleaved where a lone chain would wait on each add.
+
+// acc[b] += x(i + b, k) * x(j, k) for k = 0 .. ncol - 1 in turn (kSign -1: -= instead).
+template <int kWidth, int kSign>
+inline void AccumulateRows(const double* x, int ldx, int ncol, int i, int j, double* acc) {
+  for (int k = 0; k < ncol; ++k) {
+    const double* xk = x + static_cast<std::ptrdiff_t>(ldx) * k;
+    const double xjk = xk[j];
+    for (int b = 0; b < kWidth; ++b) {
+      if constexpr (kSign > 0) {
+        acc[b] += xk[i + b] * xjk;
+      } else {
+        acc[b] -= xk[i + b] * xjk;
+      }
     }
   }
 }
 
+// Calls block.template operator()<width>(i) over the rows [i, end) in blocks of 8, then one each
+// of 4, 2 and 1 as the rows left allow; stops at the first block that returns false.
+template <typename Block>
+inline bool ForRowBlocks(int i, int end, const Block& block) {
+  for (; end - i >= 8; i += 8) {
+    if (!block.template operator()<8>(i)) return false;
+  }
+  if (end - i >= 4) {
+    if (!block.template operator()<4>(i)) return false;
+    i += 4;
+  }
+  if (end - i >= 2) {
+    if (!block.template operator()<2>(i)) return false;
+    i += 2;
+  }
+  return end - i < 1 || block.template operator()<1>(i);
+}
+
+// CHOLMOD's C = L1 [L1; L2]' of one descendant: c(i, j) = sum_k d(i, k) d(j, k) for the
+// columns j < n1 and the rows i in [j, n2), with k ascending from 0 (dsyrk and dgemm of the BLAS
+// path).
+void OwnDescendantProducts(const double* d, int ldd, int n1, int n2, int ncol, double* c, int ldc) {
+  for (int j = 0; j < n1; ++j) {
+    double* cj = c + static_cast<std::ptrdiff_t>(ldc) * j;
+    ForRowBlocks(j, n2, [&]<int kWidth>(int i) {
+      double acc[kWidth] = {};
+      AccumulateRows<kWidth, 1>(d, ldd, ncol, i, j, acc);
+      std::copy(acc, acc + kWidth, cj + i);
+      return true;
+    });
+  }
+}
+
 // The supernode's columns in place: the Cholesky factor of its diagonal block and the rows below
-// divided by its transpose (dpotrf and dtrsm of the BLAS path), left-looking, column by column.
-// False if a pivot is not positive (or not a number).
+// divided by its transpose (dpotrf and dtrsm of the BLAS path), left-looking, column by column:
+// a(i, j) minus a(i, k) a(j, k) for k ascending, then the diagonal's square root, then the rows
+// below divided by it. False if a pivot is not positive (or not a number).
 bool OwnFactorColumns(double* a, int nsrow, int nscol) {
   for (int j = 0; j < nscol; ++j) {
     double* aj = a + static_cast<std::ptrdiff_t>(nsrow) * j;
-    for (int k = 0; k < j; ++k) {
-      const double* ak = a + static_cast<std::ptrdiff_t>(nsrow) * k;
-      const double ajk = ak[j];
-      for (int i = j; i < nsrow; ++i) aj[i] -= ak[i] * ajk;
-    }
-    if (!(aj[j] > 0.0)) return false;
-    const double pivot = std::sqrt(aj[j]);
-    aj[j] = pivot;
-    for (int i = j + 1; i < nsrow; ++i) aj[i] /= pivot;
+    double pivot = 0.0;
+    const bool factored = ForRowBlocks(j, nsrow, [&]<int kWidth>(int i) {
+      double acc[kWidth];
+      for (int b = 0; b < kWidth; ++b) acc[b] = aj[i + b];
+      AccumulateRows<kWidth, -1>(a, nsrow, j, i, j, acc);
+      int b = 0;
+      if (i == j) {  // the first block holds the diagonal, whose root divides every row below
+        if (!(acc[0] > 0.0)) return false;
+        pivot = std::sqrt(acc[0]);
+        aj[j] = pivot;
+        b = 1;
+      }
+      for (; b < kWidth; ++b) aj[i + b] = acc[b] / pivot;
+      return true;
+    });
+    if (!factored) return false;
   }
   return true;
 }
@@ -272,17 +321,32 @@ bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::Vect
   double* y = work_.data();
   for (int k = 0; k < n; ++k) y[k] = rhs[perm ? perm[k] : k];  // y = P b
   const auto nsuper = static_cast<int>(supernodes_.size());
-  // L y' = y: each supernode's columns in turn, each column's rows below pushed down at once.
+  // L y' = y: each supernode's columns in turn, each column's rows below pushed down: y(r) minus
+  // L(r, k1 + j) y(k1 + j) for the supernodes in order and their columns j ascending. Within a
+  // supernode, its own rows (the first nscol, which are k1, k1 + 1, ...) column by column; the
+  // rows below it a block at a time, each row's terms over the columns summed in a register.
   for (int s = 0; s < nsuper; ++s) {
     const Supernode& sn = supernodes_[s];
     const int k1 = super[s];
     const int* rows = ls + lpi[s];
+    const double* ls_x = lx + sn.psx;
     for (int j = 0; j < sn.nscol; ++j) {
-      const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
+      const double* lj = ls_x + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
       const double yj = y[k1 + j] / lj[j];
       y[k1 + j] = yj;
-      for (int i = j + 1; i < sn.nsrow; ++i) y[rows[i]] -= lj[i] * yj;
+      for (int i = j + 1; i < sn.nscol; ++i) y[k1 + i] -= lj[i] * yj;
     }
+    const double* ys = y + k1;
+    ForRowBlocks(sn.nscol, sn.nsrow, [&]<int kWidth>(int i) {
+      double acc[kWidth];
+      for (int b = 0; b < kWidth; ++b) acc[b] = y[rows[i + b]];
+      for (int j = 0; j < sn.nscol; ++j) {
+        const double* lj = ls_x + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
+        for (int b = 0; b < kWidth; ++b) acc[b] -= lj[i + b] * ys[j];
+      }
+      for (int b = 0; b < kWidth; ++b) y[rows[i + b]] = acc[b];
+      return true;
+    });
   }
   // L' z = y': supernodes and columns backwards, each column's dot product with the rows below.
   for (int s = nsuper - 1; s >= 0; --s) {
