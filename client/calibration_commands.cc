@@ -15,8 +15,6 @@
 namespace seep::client {
 namespace {
 
-constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
-
 std::string FormatTimestamp(const google::protobuf::Timestamp& t) {
   if (t.seconds() == 0 && t.nanos() == 0) return "-";
   return google::protobuf::util::TimeUtil::ToString(t);

@@ -12,6 +12,10 @@
 
 namespace seep::client {
 
+// The exit code of a command refused before any call (a bad argument or file): what the server
+// itself answers for bad input, INVALID_ARGUMENT.
+inline constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
+
 std::shared_ptr<grpc::Channel> OpenChannel(const GlobalOptions& global);
 // Deadline (--timeout) and bearer token: what every unary call needs.
 void PrepareUnaryCall(const GlobalOptions& global, grpc::ClientContext* ctx);

@@ -21,8 +21,6 @@
 namespace seep::client {
 namespace {
 
-constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
-
 template <typename Repeated>
 std::vector<double> Doubles(const Repeated& values) {
   return std::vector<double>(values.begin(), values.end());

@@ -24,8 +24,6 @@
 namespace seep::client {
 namespace {
 
-constexpr int kBadInput = static_cast<int>(grpc::StatusCode::INVALID_ARGUMENT);
-
 // One call on sweep `id` (GetSweep, CancelSweep, ...); prints what failed and returns the exit
 // code, 0 when the call succeeded.
 template <typename Request, typename Response>

@@ -16,8 +16,6 @@
 namespace seep::core {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 struct LoopMeasure {
   double signed_area = 0.0;  // shoelace over the centres (> 0 for a CCW loop)
   double pore_terms = 0.0;   // sum over the loop's edges of (half lens - turn term), see Compute
@@ -91,7 +89,7 @@ LoopMeasure MeasureLoop(const ParticleView& p, const std::int32_t* loop,
   return m;
 }
 
-Status CheckIds(std::span<const std::int32_t> ids, std::size_t n, const char* field) {
+Status CheckVolumeNetworkIds(std::span<const std::int32_t> ids, std::size_t n, const char* field) {
   for (std::size_t k = 0; k < ids.size(); ++k) {
     if (ids[k] < 0 || static_cast<std::size_t>(ids[k]) >= n) {
       return InvalidArgument(std::string("coupling.domain_volume.network.") + field + "[" +
@@ -198,7 +196,7 @@ double BindWedgeAngle(std::int32_t entry_term, std::int32_t next_entry_term, con
   const double out_x = next_forward ? x0[e1] : 0.0 - x0[e1];
   const double out_y = next_forward ? y0[e1] : 0.0 - y0[e1];
   double theta = std::atan2(out_x * in_y - out_y * in_x, out_x * in_x + out_y * in_y);
-  if (theta < 0.0) theta += kTwoPi;
+  if (theta < 0.0) theta += 2.0 * std::numbers::pi;
   return theta;
 }
 
@@ -432,8 +430,10 @@ Status DomainVolumeUpdater::Bind(const ParticleView& particles, const DomainNetw
   bound_particles_ = 0;
   rattler_correction_.clear();
   SEEP_RETURN_IF_ERROR(Check(particles, network, num_domains));
-  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, particles.size(), "loop_particles"));
-  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, particles.size(), "outer_particles"));
+  SEEP_RETURN_IF_ERROR(
+      CheckVolumeNetworkIds(network.loop_particles, particles.size(), "loop_particles"));
+  SEEP_RETURN_IF_ERROR(
+      CheckVolumeNetworkIds(network.outer_particles, particles.size(), "outer_particles"));
   if (network.loop_contacts.size() != network.loop_particles.size() ||
       network.outer_contacts.size() != network.outer_particles.size()) {
     return InvalidArgument(

@@ -18,7 +18,7 @@ std::string SizeMessage(const char* field, std::size_t got, std::size_t expected
          " entries, expected " + std::to_string(expected) + " (one per " + per + ")";
 }
 
-Status CheckIds(std::span<const std::int32_t> ids, std::size_t n, const char* field) {
+Status CheckForceNetworkIds(std::span<const std::int32_t> ids, std::size_t n, const char* field) {
   // One pass over the loops before anything is written, so a bad network adds nothing.
   for (std::size_t k = 0; k < ids.size(); ++k) {
     if (ids[k] < 0 || static_cast<std::size_t>(ids[k]) >= n) {
@@ -129,8 +129,10 @@ Status PressureForceKernel::Bind(const DomainNetwork& network, std::size_t num_p
     return InvalidArgument(
         "coupling.pressure_forces.network: loop contacts do not match the loop particles");
   }
-  SEEP_RETURN_IF_ERROR(CheckIds(network.loop_particles, num_particles, "loop_particles"));
-  SEEP_RETURN_IF_ERROR(CheckIds(network.outer_particles, num_particles, "outer_particles"));
+  SEEP_RETURN_IF_ERROR(
+      CheckForceNetworkIds(network.loop_particles, num_particles, "loop_particles"));
+  SEEP_RETURN_IF_ERROR(
+      CheckForceNetworkIds(network.outer_particles, num_particles, "outer_particles"));
   SEEP_RETURN_IF_ERROR(CheckContactIds(network.loop_contacts, "loop_contacts"));
   SEEP_RETURN_IF_ERROR(CheckContactIds(network.outer_contacts, "outer_contacts"));
   std::vector<Traversal> walks;

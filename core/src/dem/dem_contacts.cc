@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "../sizes.h"
 #include "dem_parallel.h"
 
 namespace seep::core {
@@ -24,11 +25,6 @@ inline double NearestImage(double dx, bool periodic, double lx) {
 
 inline bool KeyLess(std::int32_t ai, std::int32_t aj, std::int32_t bi, std::int32_t bj) {
   return ai < bi || (ai == bi && aj < bj);
-}
-
-template <typename T>
-std::size_t Bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
 }
 
 }  // namespace
@@ -732,12 +728,19 @@ void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* ou
 }
 
 std::size_t DemContactForces::MemoryBytes() const {
-  return Bytes(pairs_) + Bytes(slots_) + Bytes(sums_) + Bytes(packed_) + Bytes(gather_start_) +
-         Bytes(gather_items_) + Bytes(bond_i_) + Bytes(bond_j_) + Bytes(bond_half_width_) +
-         Bytes(bond_state_) + Bytes(bond_failure_) + Bytes(bond_reported_) + Bytes(broken_) +
-         Bytes(wall_p_) + Bytes(wall_w_) + Bytes(wall_shear_) + Bytes(wall_fn_) + Bytes(wall_gap_) +
-         Bytes(wall_loads_) + Bytes(wall_extents_) + Bytes(ref_x_) + Bytes(ref_y_) +
-         Bytes(ref_wall_x_) + Bytes(ref_wall_y_) + grid_.MemoryBytes() + Bytes(row_candidates_);
+  return internal::VectorBytes(pairs_) + internal::VectorBytes(slots_) +
+         internal::VectorBytes(sums_) + internal::VectorBytes(packed_) +
+         internal::VectorBytes(gather_start_) + internal::VectorBytes(gather_items_) +
+         internal::VectorBytes(bond_i_) + internal::VectorBytes(bond_j_) +
+         internal::VectorBytes(bond_half_width_) + internal::VectorBytes(bond_state_) +
+         internal::VectorBytes(bond_failure_) + internal::VectorBytes(bond_reported_) +
+         internal::VectorBytes(broken_) + internal::VectorBytes(wall_p_) +
+         internal::VectorBytes(wall_w_) + internal::VectorBytes(wall_shear_) +
+         internal::VectorBytes(wall_fn_) + internal::VectorBytes(wall_gap_) +
+         internal::VectorBytes(wall_loads_) + internal::VectorBytes(wall_extents_) +
+         internal::VectorBytes(ref_x_) + internal::VectorBytes(ref_y_) +
+         internal::VectorBytes(ref_wall_x_) + internal::VectorBytes(ref_wall_y_) +
+         grid_.MemoryBytes() + internal::VectorBytes(row_candidates_);
 }
 
 }  // namespace seep::core

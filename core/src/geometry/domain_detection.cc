@@ -9,21 +9,13 @@
 #include <numbers>
 #include <string>
 
+#include "../sizes.h"
 #include "contact_pipe.h"
 #include "seep/core/geometry/disk_overlap.h"
 #include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
-namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-template <typename T>
-std::size_t Bytes(const std::vector<T>& v) {
-  return sizeof(T) * v.capacity();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void DomainNetwork::Clear() {
   loop_offsets.assign(1, 0);
@@ -56,24 +48,37 @@ void DomainNetwork::Clear() {
 }
 
 std::size_t DomainNetwork::MemoryBytes() const {
-  return Bytes(loop_offsets) + Bytes(loop_particles) + Bytes(loop_contacts) +
-         Bytes(apparent_volume) + Bytes(pore_volume) + Bytes(centroid_x) + Bytes(centroid_y) +
-         Bytes(is_boundary) + Bytes(pipe_domain_a) + Bytes(pipe_domain_b) + Bytes(pipe_contact) +
-         Bytes(pipe_length) + Bytes(boundary_pipe_domain) + Bytes(boundary_pipe_contact) +
-         Bytes(boundary_pipe_outer_face) + Bytes(boundary_pipe_length) + Bytes(boundary_pipe_x) +
-         Bytes(boundary_pipe_y) + Bytes(outer_offsets) + Bytes(outer_particles) +
-         Bytes(outer_contacts) + Bytes(outer_area) + Bytes(outer_host_domain) + walls.MemoryBytes();
+  return internal::VectorBytes(loop_offsets) + internal::VectorBytes(loop_particles) +
+         internal::VectorBytes(loop_contacts) + internal::VectorBytes(apparent_volume) +
+         internal::VectorBytes(pore_volume) + internal::VectorBytes(centroid_x) +
+         internal::VectorBytes(centroid_y) + internal::VectorBytes(is_boundary) +
+         internal::VectorBytes(pipe_domain_a) + internal::VectorBytes(pipe_domain_b) +
+         internal::VectorBytes(pipe_contact) + internal::VectorBytes(pipe_length) +
+         internal::VectorBytes(boundary_pipe_domain) +
+         internal::VectorBytes(boundary_pipe_contact) +
+         internal::VectorBytes(boundary_pipe_outer_face) +
+         internal::VectorBytes(boundary_pipe_length) + internal::VectorBytes(boundary_pipe_x) +
+         internal::VectorBytes(boundary_pipe_y) + internal::VectorBytes(outer_offsets) +
+         internal::VectorBytes(outer_particles) + internal::VectorBytes(outer_contacts) +
+         internal::VectorBytes(outer_area) + internal::VectorBytes(outer_host_domain) +
+         walls.MemoryBytes();
 }
 
 std::size_t DomainDetector::MemoryBytes() const {
-  return Bytes(degree_) + Bytes(vertex_offsets_) + Bytes(slot_target_) + Bytes(slot_contact_) +
-         Bytes(slot_origin_) + Bytes(slot_angle_) + Bytes(alive_) + Bytes(prune_queue_) +
-         Bytes(slot_of_lower_) + Bytes(slot_of_upper_) + Bytes(half_lens_) + Bytes(component_) +
-         Bytes(slot_face_) + Bytes(face_offsets_) + Bytes(face_slots_) + Bytes(face_signed_area_) +
-         Bytes(face_sector_area_) + Bytes(face_half_lens_) + Bytes(face_centroid_x_) +
-         Bytes(face_centroid_y_) + Bytes(face_component_) + Bytes(face_domain_) +
-         Bytes(component_outer_face_) + Bytes(grid_start_) + Bytes(grid_items_) +
-         Bytes(domain_box_) + Bytes(particle_host_) + wall_graph_packing_.MemoryBytes() +
+  return internal::VectorBytes(degree_) + internal::VectorBytes(vertex_offsets_) +
+         internal::VectorBytes(slot_target_) + internal::VectorBytes(slot_contact_) +
+         internal::VectorBytes(slot_origin_) + internal::VectorBytes(slot_angle_) +
+         internal::VectorBytes(alive_) + internal::VectorBytes(prune_queue_) +
+         internal::VectorBytes(slot_of_lower_) + internal::VectorBytes(slot_of_upper_) +
+         internal::VectorBytes(half_lens_) + internal::VectorBytes(component_) +
+         internal::VectorBytes(slot_face_) + internal::VectorBytes(face_offsets_) +
+         internal::VectorBytes(face_slots_) + internal::VectorBytes(face_signed_area_) +
+         internal::VectorBytes(face_sector_area_) + internal::VectorBytes(face_half_lens_) +
+         internal::VectorBytes(face_centroid_x_) + internal::VectorBytes(face_centroid_y_) +
+         internal::VectorBytes(face_component_) + internal::VectorBytes(face_domain_) +
+         internal::VectorBytes(component_outer_face_) + internal::VectorBytes(grid_start_) +
+         internal::VectorBytes(grid_items_) + internal::VectorBytes(domain_box_) +
+         internal::VectorBytes(particle_host_) + wall_graph_packing_.MemoryBytes() +
          wall_graph_contacts_.MemoryBytes();
 }
 
@@ -387,7 +392,7 @@ void DomainDetector::TraceFaces(const Packing& packing, const ContactList& conta
       const bool wraps = twin == first;
       const std::int32_t next = wraps ? offsets[w + 1] - 1 : twin - 1;
       double theta = slot_angle[twin] - slot_angle[next];
-      if (wraps) theta += kTwoPi;
+      if (wraps) theta += 2.0 * std::numbers::pi;
       sector += 0.5 * theta * r[w] * r[w];
       cur = next;
     } while (cur != static_cast<std::int32_t>(start));

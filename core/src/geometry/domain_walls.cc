@@ -6,13 +6,10 @@
 #include <limits>
 #include <string>
 
+#include "../sizes.h"
+
 namespace seep::core {
 namespace {
-
-template <typename T>
-std::size_t Bytes(const std::vector<T>& v) {
-  return sizeof(T) * v.capacity();
-}
 
 // Signed distance of a point from the wall line (positive on the sample side).
 double Height(const WallLine& w, double x, double y) {
@@ -61,8 +58,10 @@ void DomainWalls::Clear() {
 }
 
 std::size_t DomainWalls::MemoryBytes() const {
-  return Bytes(vertex_wall) + Bytes(vertex_other_wall) + Bytes(vertex_particle) + Bytes(vertex_x) +
-         Bytes(vertex_y) + Bytes(edge_wall) + Bytes(edge_particle) + Bytes(edge_gap);
+  return internal::VectorBytes(vertex_wall) + internal::VectorBytes(vertex_other_wall) +
+         internal::VectorBytes(vertex_particle) + internal::VectorBytes(vertex_x) +
+         internal::VectorBytes(vertex_y) + internal::VectorBytes(edge_wall) +
+         internal::VectorBytes(edge_particle) + internal::VectorBytes(edge_gap);
 }
 
 WallContactList FindWallContacts(const Packing& packing, std::span<const WallLine> walls,

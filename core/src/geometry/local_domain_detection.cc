@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "../sizes.h"
 #include "contact_pipe.h"
 #include "seep/core/geometry/disk_overlap.h"
 #include "seep/core/geometry/loop_polygon.h"
@@ -15,14 +16,7 @@
 namespace seep::core {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-template <typename T>
-std::size_t Bytes(const std::vector<T>& v) {
-  return sizeof(T) * v.capacity();
-}
-
-std::size_t Index(std::int32_t k) { return static_cast<std::size_t>(k); }
+using internal::Index;
 
 }  // namespace
 
@@ -360,7 +354,7 @@ void LocalDomainDetector::TraceFace(std::int32_t seed, std::int32_t f) {
     const bool wraps = twin == rotation_first_[w];
     const std::int32_t next = he_cw_[Index(twin)];
     double theta = he_angle_[Index(twin)] - he_angle_[Index(next)];
-    if (wraps) theta += kTwoPi;
+    if (wraps) theta += 2.0 * std::numbers::pi;
     sector += 0.5 * theta * r[w] * r[w];
     cur = next;
   } while (cur != start);
@@ -776,17 +770,26 @@ void LocalDomainDetector::Emit(DomainNetwork* network) const {
 }
 
 std::size_t LocalDomainDetector::MemoryBytes() const {
-  return packing_.MemoryBytes() + Bytes(edge_gap_) + Bytes(edge_half_lens_) +
-         Bytes(edge_in_graph_) + Bytes(free_edges_) + Bytes(he_origin_) + Bytes(he_next_incident_) +
-         Bytes(he_ccw_) + Bytes(he_cw_) + Bytes(he_angle_) + Bytes(he_face_) +
-         Bytes(first_incident_) + Bytes(rotation_first_) + Bytes(degree_) + Bytes(alive_) +
-         Bytes(component_) + Bytes(face_kind_) + Bytes(face_start_) + Bytes(face_area_) +
-         Bytes(face_pore_) + Bytes(face_centroid_x_) + Bytes(face_centroid_y_) +
-         Bytes(face_first_held_) + Bytes(face_islands_) + Bytes(face_component_) +
-         Bytes(host_face_) + Bytes(next_held_) + Bytes(pruned_now_) + Bytes(id_scratch_) +
-         Bytes(particle_mark_) + Bytes(tree_nodes_) + Bytes(tree_hosts_) + Bytes(tree_degree_) +
-         Bytes(new_edges_) + Bytes(new_faces_) + Bytes(old_face_edges_) + Bytes(free_faces_) +
-         Bytes(component_outer_face_) + Bytes(component_host_face_) + Bytes(scratch_);
+  return packing_.MemoryBytes() + internal::VectorBytes(edge_gap_) +
+         internal::VectorBytes(edge_half_lens_) + internal::VectorBytes(edge_in_graph_) +
+         internal::VectorBytes(free_edges_) + internal::VectorBytes(he_origin_) +
+         internal::VectorBytes(he_next_incident_) + internal::VectorBytes(he_ccw_) +
+         internal::VectorBytes(he_cw_) + internal::VectorBytes(he_angle_) +
+         internal::VectorBytes(he_face_) + internal::VectorBytes(first_incident_) +
+         internal::VectorBytes(rotation_first_) + internal::VectorBytes(degree_) +
+         internal::VectorBytes(alive_) + internal::VectorBytes(component_) +
+         internal::VectorBytes(face_kind_) + internal::VectorBytes(face_start_) +
+         internal::VectorBytes(face_area_) + internal::VectorBytes(face_pore_) +
+         internal::VectorBytes(face_centroid_x_) + internal::VectorBytes(face_centroid_y_) +
+         internal::VectorBytes(face_first_held_) + internal::VectorBytes(face_islands_) +
+         internal::VectorBytes(face_component_) + internal::VectorBytes(host_face_) +
+         internal::VectorBytes(next_held_) + internal::VectorBytes(pruned_now_) +
+         internal::VectorBytes(id_scratch_) + internal::VectorBytes(particle_mark_) +
+         internal::VectorBytes(tree_nodes_) + internal::VectorBytes(tree_hosts_) +
+         internal::VectorBytes(tree_degree_) + internal::VectorBytes(new_edges_) +
+         internal::VectorBytes(new_faces_) + internal::VectorBytes(old_face_edges_) +
+         internal::VectorBytes(free_faces_) + internal::VectorBytes(component_outer_face_) +
+         internal::VectorBytes(component_host_face_) + internal::VectorBytes(scratch_);
 }
 
 }  // namespace seep::core

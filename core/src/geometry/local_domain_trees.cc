@@ -6,13 +6,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../sizes.h"
 #include "seep/core/geometry/local_domain_detection.h"
 #include "seep/core/geometry/loop_polygon.h"
 
 namespace seep::core {
 namespace {
 
-std::size_t Index(std::int32_t k) { return static_cast<std::size_t>(k); }
+using internal::Index;
 
 constexpr std::int32_t kUnset = -2;
 constexpr std::int32_t kVisiting = -3;

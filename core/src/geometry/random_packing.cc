@@ -16,8 +16,6 @@ double UniformUnit(std::uint64_t bits) { return static_cast<double>(bits >> 11) 
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Radius-expansion state: base radii, current positions, and the scratch of the relaxation.
 class Expander {
  public:
@@ -56,7 +54,7 @@ class Expander {
   double PorosityWithLenses() {
     (void)detector_.Detect(packing_, 0.0, &contacts_);
     double solid = 0.0;
-    for (const double r : packing_.radius) solid += kPi * r * r;
+    for (const double r : packing_.radius) solid += std::numbers::pi * r * r;
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
       const std::size_t i = static_cast<std::size_t>(contacts_.i[c]);
       const std::size_t j = static_cast<std::size_t>(contacts_.j[c]);
@@ -183,7 +181,7 @@ Status CheckOptions(const RandomPackingOptions& o) {
 // Scale at which the disks cover `solid_fraction` of the box (overlaps ignored).
 double ScaleForSolidFraction(const RandomPackingOptions& o, double sum_base_r2,
                              double solid_fraction) {
-  return std::sqrt(solid_fraction * o.width * o.height / (kPi * sum_base_r2));
+  return std::sqrt(solid_fraction * o.width * o.height / (std::numbers::pi * sum_base_r2));
 }
 
 }  // namespace

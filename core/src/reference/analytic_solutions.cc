@@ -7,8 +7,6 @@
 namespace seep::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Below this T the sine series needs many terms and the image sums few; at it both converge
 // to round-off within 40 terms (the series' 40th term is exp(-40^2 pi^2 0.05) ~ 1e-343, the
 // images' 40th erfc argument is ~ 80 / (2 sqrt(0.05)) ~ 180).
@@ -17,7 +15,9 @@ constexpr int kTerms = 40;
 
 // exp(-x^2 pi^2 T) of the next term is below 1e-18 of the leading one: later terms are lost in
 // round-off.
-bool Negligible(double x, double T) { return x * x * kPi * kPi * T > 42.0; }
+bool Negligible(double x, double T) {
+  return x * x * std::numbers::pi * std::numbers::pi * T > 42.0;
+}
 
 }  // namespace
 
@@ -34,9 +34,10 @@ double DiffusionDirichletDirichlet(double xi, double T) {
   }
   double sum = 0.0;
   for (int n = 1; !Negligible(n, T); ++n) {
-    sum += std::sin(n * kPi * xi) / n * std::exp(-n * n * kPi * kPi * T);
+    sum += std::sin(n * std::numbers::pi * xi) / n *
+           std::exp(-n * n * std::numbers::pi * std::numbers::pi * T);
   }
-  return 1.0 - xi - 2.0 / kPi * sum;
+  return 1.0 - xi - 2.0 / std::numbers::pi * sum;
 }
 
 double DiffusionDirichletNoFlow(double xi, double T) {
@@ -54,7 +55,7 @@ double DiffusionDirichletNoFlow(double xi, double T) {
   }
   double sum = 0.0;
   for (int m = 0; !Negligible(m + 0.5, T); ++m) {
-    const double big_m = (2.0 * m + 1.0) * kPi / 2.0;
+    const double big_m = (2.0 * m + 1.0) * std::numbers::pi / 2.0;
     sum += std::sin(big_m * xi) * std::exp(-big_m * big_m * T) / big_m;
   }
   return 1.0 - 2.0 * sum;
@@ -66,7 +67,7 @@ double ThiemPressure(double r, double r_w, double r_e, double p_w, double p_e) {
 
 double ThiemFlowRate(double permeability, double viscosity, double r_w, double r_e, double p_w,
                      double p_e) {
-  return 2.0 * kPi * permeability * (p_w - p_e) / (viscosity * std::log(r_e / r_w));
+  return 2.0 * std::numbers::pi * permeability * (p_w - p_e) / (viscosity * std::log(r_e / r_w));
 }
 
 }  // namespace seep::core

@@ -16,14 +16,13 @@
 namespace seep::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr int kMaxTerms = 10000;
 constexpr double kTermTolerance = 1e-17;
 // Below this Tv the image series is used (about 3 terms there); above it the Fourier series
 // (about 6 terms at Tv = 0.1, fewer later).
 constexpr double kSeriesSwitch = 0.1;
 
-double Ierfc(double x) { return std::exp(-x * x) / std::sqrt(kPi) - x * std::erfc(x); }
+double Ierfc(double x) { return std::exp(-x * x) / std::sqrt(std::numbers::pi) - x * std::erfc(x); }
 
 std::string Got(double v) { return " (got " + std::to_string(v) + ")"; }
 
@@ -106,7 +105,7 @@ namespace terzaghi_series {
 double DegreeOfConsolidationFourier(double time_factor) {
   double sum = 0.0;
   for (int m = 0; m < kMaxTerms; ++m) {
-    const double big_m = kPi * (2.0 * m + 1.0) / 2.0;
+    const double big_m = std::numbers::pi * (2.0 * m + 1.0) / 2.0;
     const double term = 2.0 / (big_m * big_m) * std::exp(-big_m * big_m * time_factor);
     sum += term;
     if (term < kTermTolerance) break;
@@ -116,7 +115,7 @@ double DegreeOfConsolidationFourier(double time_factor) {
 
 double DegreeOfConsolidationImages(double time_factor) {
   const double root = std::sqrt(time_factor);
-  double sum = 1.0 / std::sqrt(kPi);
+  double sum = 1.0 / std::sqrt(std::numbers::pi);
   double sign = -1.0;
   for (int n = 1; n < kMaxTerms; ++n) {
     const double term = 2.0 * Ierfc(n / root);
@@ -130,7 +129,7 @@ double DegreeOfConsolidationImages(double time_factor) {
 double ExcessPressureRatioFourier(double depth_ratio, double time_factor) {
   double sum = 0.0;
   for (int m = 0; m < kMaxTerms; ++m) {
-    const double big_m = kPi * (2.0 * m + 1.0) / 2.0;
+    const double big_m = std::numbers::pi * (2.0 * m + 1.0) / 2.0;
     const double decay = std::exp(-big_m * big_m * time_factor);
     sum += 2.0 / big_m * std::sin(big_m * depth_ratio) * decay;
     if (2.0 / big_m * decay < kTermTolerance) break;

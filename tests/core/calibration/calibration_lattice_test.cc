@@ -17,7 +17,7 @@ namespace {
 using calibration_test::PermeameterSpec;
 
 constexpr double kRadius = 1e-3;
-constexpr double kTarget = 1e-13;
+constexpr double kLatticeTarget = 1e-13;
 // The network solve is direct (CHOLMOD): k carries round-off of order 1e-13 relative, a0 a third
 // of it; 1e-10 leaves three orders of margin.
 constexpr double kLatticeTolerance = 1e-10;
@@ -27,13 +27,13 @@ TEST(CalibrationLattice, V4_SquareLatticeGivesExactApertureInOneSolve) {
   const std::uint32_t rows = 20;
   CalibrationSpec spec =
       PermeameterSpec(LatticePackingSpec{LatticeKind::kSquare, columns, rows, kRadius});
-  spec.target_permeabilities_m2 = {kTarget};
+  spec.target_permeabilities_m2 = {kLatticeTarget};
   const auto records = CalibrateResidualAperture(spec);
   ASSERT_TRUE(records.ok()) << records.status().ToString();
   ASSERT_EQ(records->size(), 1u);
   const CalibrationRecord& r = records->front();
 
-  const double exact = std::cbrt(24.0 * kRadius * kTarget);
+  const double exact = std::cbrt(24.0 * kRadius * kLatticeTarget);
   std::printf("V4 square: a0 = %.12e m, exact %.12e m, relative difference %.2e, %d solve(s)\n",
               r.residual_aperture_m, exact, std::abs(r.residual_aperture_m / exact - 1.0),
               r.iterations);
@@ -78,22 +78,23 @@ TEST(CalibrationLattice, V4_SquareLatticeGivesExactApertureInOneSolve) {
 TEST(CalibrationLattice, V4_SquareLatticeAlongY) {
   CalibrationSpec spec = PermeameterSpec(LatticePackingSpec{LatticeKind::kSquare, 12, 25, kRadius});
   spec.scene.boundary.axis = FlowAxis::kY;
-  spec.target_permeabilities_m2 = {kTarget};
+  spec.target_permeabilities_m2 = {kLatticeTarget};
   const auto records = CalibrateResidualAperture(spec);
   ASSERT_TRUE(records.ok()) << records.status().ToString();
   const CalibrationRecord& r = records->front();
-  EXPECT_NEAR(r.residual_aperture_m / std::cbrt(24.0 * kRadius * kTarget), 1.0, kLatticeTolerance);
+  EXPECT_NEAR(r.residual_aperture_m / std::cbrt(24.0 * kRadius * kLatticeTarget), 1.0,
+              kLatticeTolerance);
   EXPECT_EQ(r.iterations, 1);
   EXPECT_EQ(r.flow_axis, FlowAxis::kY);
 }
 
 TEST(CalibrationLattice, V4_HexLatticeAlongX) {
   CalibrationSpec spec = PermeameterSpec(LatticePackingSpec{LatticeKind::kHex, 30, 20, kRadius});
-  spec.target_permeabilities_m2 = {kTarget};
+  spec.target_permeabilities_m2 = {kLatticeTarget};
   const auto records = CalibrateResidualAperture(spec);
   ASSERT_TRUE(records.ok()) << records.status().ToString();
   const CalibrationRecord& r = records->front();
-  const double exact = std::cbrt(24.0 * std::sqrt(3.0) * kRadius * kTarget);
+  const double exact = std::cbrt(24.0 * std::sqrt(3.0) * kRadius * kLatticeTarget);
   EXPECT_NEAR(r.residual_aperture_m / exact, 1.0, kLatticeTolerance);
   EXPECT_EQ(r.iterations, 1);
 }

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <initializer_list>
 #include <vector>
 
@@ -44,6 +45,12 @@ inline void RunWithServo(DemParticles* p, std::vector<DemWall>* walls, DemContac
     ApplyServo(servo, contacts->wall_loads()[servo_wall], dt, &(*walls)[servo_wall], counters);
     ASSERT_TRUE(DemStep(p, walls, contacts, options, counters).ok());
   }
+}
+
+// Whether two arrays hold the same bits (NaNs and signed zeros included).
+inline bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
 }  // namespace seep::core::dem_test

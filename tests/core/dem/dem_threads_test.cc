@@ -89,19 +89,15 @@ Snapshot RunScene(int threads, int steps, int cols = 24, int rows = 14, double s
   return snap;
 }
 
-bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
-
 void ExpectSameBits(const Snapshot& one, const Snapshot& two) {
-  EXPECT_TRUE(SameBits(one.x, two.x));
-  EXPECT_TRUE(SameBits(one.y, two.y));
-  EXPECT_TRUE(SameBits(one.vx, two.vx));
-  EXPECT_TRUE(SameBits(one.vy, two.vy));
-  EXPECT_TRUE(SameBits(one.omega, two.omega));
-  EXPECT_TRUE(SameBits(one.fx, two.fx));
-  EXPECT_TRUE(SameBits(one.fy, two.fy));
-  EXPECT_TRUE(SameBits(one.torque, two.torque));
+  EXPECT_TRUE(dem_test::SameBits(one.x, two.x));
+  EXPECT_TRUE(dem_test::SameBits(one.y, two.y));
+  EXPECT_TRUE(dem_test::SameBits(one.vx, two.vx));
+  EXPECT_TRUE(dem_test::SameBits(one.vy, two.vy));
+  EXPECT_TRUE(dem_test::SameBits(one.omega, two.omega));
+  EXPECT_TRUE(dem_test::SameBits(one.fx, two.fx));
+  EXPECT_TRUE(dem_test::SameBits(one.fy, two.fy));
+  EXPECT_TRUE(dem_test::SameBits(one.torque, two.torque));
   ASSERT_EQ(one.contacts.size(), two.contacts.size());
   for (std::size_t c = 0; c < one.contacts.size(); ++c) {
     EXPECT_EQ(one.contacts[c].i, two.contacts[c].i);

@@ -176,7 +176,7 @@ TEST(Stages, PermeameterStepsItsInletPressureAndEndsEachStageOnItsDuration) {
 }
 
 template <typename T>
-bool BitEqual(const std::vector<T>& a, const std::vector<T>& b) {
+bool VectorsBitEqual(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() &&
          (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
@@ -218,11 +218,11 @@ TEST(Stages, ResumedInsideEachStageEndsBitIdentical) {
     const SimulationSnapshot got = resumed.TakeSnapshot();
     EXPECT_EQ(got.step, expected.step);
     EXPECT_EQ(std::memcmp(&got.time_s, &expected.time_s, sizeof(double)), 0);
-    EXPECT_TRUE(BitEqual(got.pressure, expected.pressure));
-    EXPECT_TRUE(BitEqual(got.mechanics->x, expected.mechanics->x));
-    EXPECT_TRUE(BitEqual(got.mechanics->y, expected.mechanics->y));
-    EXPECT_TRUE(BitEqual(got.mechanics->walls, expected.mechanics->walls));
-    EXPECT_TRUE(BitEqual(got.series.values, expected.series.values));
+    EXPECT_TRUE(VectorsBitEqual(got.pressure, expected.pressure));
+    EXPECT_TRUE(VectorsBitEqual(got.mechanics->x, expected.mechanics->x));
+    EXPECT_TRUE(VectorsBitEqual(got.mechanics->y, expected.mechanics->y));
+    EXPECT_TRUE(VectorsBitEqual(got.mechanics->walls, expected.mechanics->walls));
+    EXPECT_TRUE(VectorsBitEqual(got.series.values, expected.series.values));
     ASSERT_TRUE(got.stages && expected.stages);
     EXPECT_EQ(got.stages->ended_metrics, expected.stages->ended_metrics);
     EXPECT_EQ(got.stages->index, 2u);

@@ -37,7 +37,7 @@ using terzaghi_probe::WindowMean;
 // see the same E_oed, and the packing is used as built (no settling, no lost contact history).
 constexpr std::uint32_t kColumns = 10;
 constexpr std::uint32_t kRows = 40;
-constexpr double kRadius = 1e-3;          // m
+constexpr double kDiskRadius = 1e-3;      // m
 constexpr double kDensity = 2650.0;       // kg/m^3
 constexpr double kNormalStiffness = 1e7;  // N/m per m; E_oed comes out ~1.7 kn
 constexpr double kLoadStep = 2e4;         // Pa: strain ~1e-3, pore volumes change by ~1 %
@@ -95,7 +95,7 @@ WallsEffectSpec Walls() {
 SceneSpec ColumnScene(double viscosity, double end_time_s) {
   SceneSpec s;
   s.name = "v17 terzaghi column";
-  s.packing.source = LatticePackingSpec{LatticeKind::kHex, kColumns, kRows, kRadius};
+  s.packing.source = LatticePackingSpec{LatticeKind::kHex, kColumns, kRows, kDiskRadius};
   s.packing.contact_gap_m = 1e-6;
   s.fluid.viscosity_pa_s = viscosity;
   s.fluid.bulk_modulus_pa = kBulkModulus;
@@ -267,7 +267,7 @@ TEST(V20UndrainedLoading, SealedSampleTakesTheUndrainedShareOfTheLoad) {
   constexpr double kFluid = 4e6;   // Pa
   SceneSpec s;
   s.name = "v20 undrained loading";
-  s.packing.source = LatticePackingSpec{LatticeKind::kHex, 14, 12, kRadius};
+  s.packing.source = LatticePackingSpec{LatticeKind::kHex, 14, 12, kDiskRadius};
   s.packing.contact_gap_m = 1e-6;
   s.fluid.viscosity_pa_s = kViscosity / 20.0;  // evens out inside the sample within ~1 ms
   s.fluid.bulk_modulus_pa = kFluid;

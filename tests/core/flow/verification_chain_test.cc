@@ -18,11 +18,12 @@ namespace {
 using testing::LatticeParams;
 using testing::TimeScheme;
 
-constexpr int kN = 20;
+constexpr int kChainCells = 20;
 
 FlowNetwork PoreChain(bool no_flow_end) {
   const LatticeParams lp;
-  return testing::MakeChain(kN, lp, lp.SquareApparentVolume(), lp.SquarePoreVolume(), no_flow_end);
+  return testing::MakeChain(kChainCells, lp, lp.SquareApparentVolume(), lp.SquarePoreVolume(),
+                            no_flow_end);
 }
 
 ExplicitSolver MakeExplicit(double kf) {
@@ -54,10 +55,11 @@ TEST(Verification, V07_ChainMatchesExactDiscreteSolution) {
     for (int step = 1; step <= 500; ++step) {
       ASSERT_TRUE(solver.Step(net, dt).ok());
       if (step % 100 != 0) continue;
-      for (int i = 1; i < kN; ++i) {
-        EXPECT_NEAR(net.pressure()[i],
-                    testing::ChainDiscreteExact(kN, i, step, dt, kf, c, v, TimeScheme::kExplicit),
-                    1e-10)
+      for (int i = 1; i < kChainCells; ++i) {
+        EXPECT_NEAR(
+            net.pressure()[i],
+            testing::ChainDiscreteExact(kChainCells, i, step, dt, kf, c, v, TimeScheme::kExplicit),
+            1e-10)
             << "explicit, node " << i << ", step " << step;
       }
     }
@@ -70,11 +72,11 @@ TEST(Verification, V07_ChainMatchesExactDiscreteSolution) {
     for (int step = 1; step <= 50; ++step) {
       ASSERT_TRUE(solver.Step(net, dt).ok());
       if (step % 10 != 0) continue;
-      for (int i = 1; i < kN; ++i) {
-        EXPECT_NEAR(
-            net.pressure()[i],
-            testing::ChainDiscreteExact(kN, i, step, dt, kf, c, v, TimeScheme::kBackwardEuler),
-            1e-10)
+      for (int i = 1; i < kChainCells; ++i) {
+        EXPECT_NEAR(net.pressure()[i],
+                    testing::ChainDiscreteExact(kChainCells, i, step, dt, kf, c, v,
+                                                TimeScheme::kBackwardEuler),
+                    1e-10)
             << "BE, node " << i << ", step " << step;
       }
     }
@@ -115,10 +117,10 @@ TEST(Verification, V08_ChainMatchesContinuumSeries) {
   EXPECT_NEAR(testing::SeriesDirichletNoFlow(1.0, 0.5), 0.62922, 5e-6);
 
   const std::vector<double> Ts{0.02, 0.05, 0.1, 0.2, 0.5};
-  const std::vector<int> nodes{kN / 4, kN / 2, 3 * kN / 4};
+  const std::vector<int> nodes{kChainCells / 4, kChainCells / 2, 3 * kChainCells / 4};
   for (const bool no_flow : {false, true}) {
     // The no-flow wall sits half a cell beyond the last node: L_eff = (N + 1/2) h.
-    const double length = no_flow ? (kN + 0.5) * h : kN * h;
+    const double length = no_flow ? (kChainCells + 0.5) * h : kChainCells * h;
     const double time_scale = length * length / c;
     auto series = [&](int i, double T) {
       const double xi = i * h / length;

@@ -19,7 +19,7 @@ namespace {
 
 using testing::LatticeParams;
 
-constexpr int kN = 20;
+constexpr int kStabilityChainCells = 20;
 
 // Max |P| seen while running the explicit scheme at `factor` x dt_crit up to T = 0.5.
 double MaxAbsPressure(FlowNetwork net, double factor, double time_scale, StepLimitPolicy policy,
@@ -53,7 +53,8 @@ TEST(Verification, V10_ExplicitLimitIsSharpOnBipartiteNetworks) {
   const double c = lp.bulk_modulus * lp.Conductance() * h * h / v;
 
   // The N = 20 chain and a 20 x 20 square lattice with a Dirichlet left column: both bipartite.
-  FlowNetwork chain = testing::MakeChain(kN, lp, lp.SquareApparentVolume(), v, false);
+  FlowNetwork chain =
+      testing::MakeChain(kStabilityChainCells, lp, lp.SquareApparentVolume(), v, false);
   FlowNetwork lattice = testing::MakeOrDie(testing::MakeSquareLatticeData(20, 20, lp));
   for (int j = 0; j < 20; ++j) ASSERT_TRUE(lattice.SetFixedPressure(j * 20, 1.0).ok());
   // Seeded random interior state in [0, 1]: a row-uniform start would hold no checkerboard
@@ -63,7 +64,8 @@ TEST(Verification, V10_ExplicitLimitIsSharpOnBipartiteNetworks) {
   for (std::size_t d = 0; d < lattice.num_domains(); ++d) {
     if (lattice.role()[d] == DomainRole::kFree) lattice.mutable_pressure()[d] = unit(rng);
   }
-  const double time_scale = (kN * h) * (kN * h) / c;  // same length for both
+  const double time_scale =
+      (kStabilityChainCells * h) * (kStabilityChainCells * h) / c;  // same length for both
 
   for (const FlowNetwork* net : {&chain, &lattice}) {
     Status status;
@@ -91,7 +93,8 @@ TEST(Verification, V10_ExplicitLimitIsSharpOnBipartiteNetworks) {
 TEST(Verification, V11_BackwardEulerAtHundredTimesCriticalStep) {
   const LatticeParams lp;
   const double v = lp.SquarePoreVolume();
-  FlowNetwork net = testing::MakeChain(kN, lp, lp.SquareApparentVolume(), v, false);
+  FlowNetwork net =
+      testing::MakeChain(kStabilityChainCells, lp, lp.SquareApparentVolume(), v, false);
   const auto limit = ComputeCriticalTimeStep(net, lp.bulk_modulus, {});
   ASSERT_TRUE(limit.ok());
   const double dt = 100.0 * limit->dt_crit;
@@ -105,26 +108,30 @@ TEST(Verification, V11_BackwardEulerAtHundredTimesCriticalStep) {
     ASSERT_TRUE(r.ok());
     EXPECT_GE(r->min_pressure, 0.0);  // stable and positivity preserving
     EXPECT_LE(r->max_pressure, 1.0);
-    for (int i = 1; i < kN; ++i) {
+    for (int i = 1; i < kStabilityChainCells; ++i) {
       EXPECT_GE(net.pressure()[i], previous[i] - 1e-15) << "not monotone at node " << i;
       previous[i] = net.pressure()[i];
     }
     if (step == 5) {  // the transient is BE's own discrete solution (first order in time)
-      for (int i = 1; i < kN; ++i) {
-        EXPECT_NEAR(net.pressure()[i],
-                    testing::ChainDiscreteExact(kN, i, step, dt, lp.bulk_modulus, lp.Conductance(),
-                                                v, testing::TimeScheme::kBackwardEuler),
-                    1e-10);
+      for (int i = 1; i < kStabilityChainCells; ++i) {
+        EXPECT_NEAR(
+            net.pressure()[i],
+            testing::ChainDiscreteExact(kStabilityChainCells, i, step, dt, lp.bulk_modulus,
+                                        lp.Conductance(), v, testing::TimeScheme::kBackwardEuler),
+            1e-10);
       }
     }
   }
-  for (int i = 0; i <= kN; ++i) {
-    EXPECT_NEAR(net.pressure()[i], 1.0 - static_cast<double>(i) / kN, 1e-10) << "node " << i;
+  for (int i = 0; i <= kStabilityChainCells; ++i) {
+    EXPECT_NEAR(net.pressure()[i], 1.0 - static_cast<double>(i) / kStabilityChainCells, 1e-10)
+        << "node " << i;
   }
   // Same state as the steady solver.
-  FlowNetwork steady = testing::MakeChain(kN, lp, lp.SquareApparentVolume(), v, false);
+  FlowNetwork steady =
+      testing::MakeChain(kStabilityChainCells, lp, lp.SquareApparentVolume(), v, false);
   ASSERT_TRUE(SolveSteadyState(steady).ok());
-  for (int i = 0; i <= kN; ++i) EXPECT_NEAR(net.pressure()[i], steady.pressure()[i], 1e-10);
+  for (int i = 0; i <= kStabilityChainCells; ++i)
+    EXPECT_NEAR(net.pressure()[i], steady.pressure()[i], 1e-10);
 }
 
 TEST(Verification, V18_CriticalStepFormula) {

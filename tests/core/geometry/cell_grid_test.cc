@@ -122,7 +122,7 @@ TEST(CellGrid, PeriodicPairsAcrossEachBoundaryAndTheCornersMatchBruteForce) {
     o.reach = 0.9;
     o.x = {px, x0, lx};
     o.y = {py, y0, ly};
-    SCOPED_TRACE(testing::Message() << "periodic x " << px << ", y " << py);
+    SCOPED_TRACE(::testing::Message() << "periodic x " << px << ", y " << py);
     const std::vector<Pair> want = BruteForcePairs(p, o);
     EXPECT_EQ(GridPairs(p, o), want);
     EXPECT_EQ(HasPair(want, first, first + 1), px);

@@ -22,15 +22,15 @@ using scene_test::kRadius;
 // A 20 x 10 square lattice, 0.04 m x 0.02 m, with no region yet.
 SceneSpec Base() { return scene_test::LatticeScene(LatticeKind::kSquare, 20, 10, FlowAxis::kX); }
 
-BoundaryRegionSpec Region(std::string name, RegionShape shape, RegionCondition condition) {
+BoundaryRegionSpec MakeRegion(std::string name, RegionShape shape, RegionCondition condition) {
   return BoundaryRegionSpec{std::move(name), std::move(shape), condition};
 }
 
 // A valid pair to break one field of: a box on the left, a circle on the right.
 SceneSpec TwoRegions() {
   SceneSpec s = Base();
-  s.boundary.regions = {Region("a", BoxShape{0.0, 0.0, 0.005, 0.02}, FixedPressure{1e5}),
-                        Region("b", CircleShape{0.03, 0.01, 0.004}, FixedFlux{-1e-7})};
+  s.boundary.regions = {MakeRegion("a", BoxShape{0.0, 0.0, 0.005, 0.02}, FixedPressure{1e5}),
+                        MakeRegion("b", CircleShape{0.03, 0.01, 0.004}, FixedFlux{-1e-7})};
   return s;
 }
 
@@ -182,17 +182,19 @@ TEST(BoundaryRegionValidation, ConflictingOverlapsAreNamedForEveryPairOfShapes) 
       // The same number as a pressure and as a rate is a different condition.
       {"kinds",
        [](SceneSpec& s) {
-         s.boundary.regions[0] = Region("a", BoxShape{0.0, 0.0, 0.01, 0.01}, FixedFlux{1e5});
-         s.boundary.regions[1] = Region("b", CircleShape{0.01, 0.01, 0.001}, FixedPressure{1e5});
+         s.boundary.regions[0] = MakeRegion("a", BoxShape{0.0, 0.0, 0.01, 0.01}, FixedFlux{1e5});
+         s.boundary.regions[1] =
+             MakeRegion("b", CircleShape{0.01, 0.01, 0.001}, FixedPressure{1e5});
        },
        kBoth},
       // The example: the fourth region overlaps the second.
       {"four regions",
        [](SceneSpec& s) {
-         s.boundary.regions = {Region("x", BoxShape{0.0, 0.0, 0.002, 0.002}, FixedPressure{0.0}),
-                               Region("a", BoxShape{0.01, 0.0, 0.015, 0.01}, FixedPressure{1e5}),
-                               Region("y", CircleShape{0.03, 0.015, 0.002}, FixedFlux{1e-7}),
-                               Region("b", CircleShape{0.015, 0.01, 0.002}, FixedPressure{2e5})};
+         s.boundary.regions = {
+             MakeRegion("x", BoxShape{0.0, 0.0, 0.002, 0.002}, FixedPressure{0.0}),
+             MakeRegion("a", BoxShape{0.01, 0.0, 0.015, 0.01}, FixedPressure{1e5}),
+             MakeRegion("y", CircleShape{0.03, 0.015, 0.002}, FixedFlux{1e-7}),
+             MakeRegion("b", CircleShape{0.015, 0.01, 0.002}, FixedPressure{2e5})};
        },
        "scene.boundary.regions[3] ('b'): overlaps regions[1] ('a') with a different condition; "
        "a domain in both would have two"},
@@ -202,7 +204,7 @@ TEST(BoundaryRegionValidation, ConflictingOverlapsAreNamedForEveryPairOfShapes) 
 TEST(BoundaryRegionValidation, ShapesApartOrWithTheSameConditionAreAccepted) {
   const auto accepted = [](RegionShape a, RegionShape b, RegionCondition ca, RegionCondition cb) {
     SceneSpec s = Base();
-    s.boundary.regions = {Region("a", a, ca), Region("b", b, cb)};
+    s.boundary.regions = {MakeRegion("a", a, ca), MakeRegion("b", b, cb)};
     return ValidateScene(s);
   };
   const FixedPressure high{1e5}, low{0.0};
@@ -238,8 +240,8 @@ TEST(BoundaryRegionValidation, ShapesApartOrWithTheSameConditionAreAccepted) {
 // Two regions that overlap with the same condition stay together through the stages.
 TEST(BoundaryRegionValidation, AStageMustNotSetOverlappingRegionsApart) {
   SceneSpec s = WithStages(Base(), 2);
-  s.boundary.regions = {Region("a", BoxShape{0.0, 0.0, 0.01, 0.01}, FixedPressure{1e5}),
-                        Region("b", BoxShape{0.005, 0.0, 0.015, 0.01}, FixedPressure{1e5})};
+  s.boundary.regions = {MakeRegion("a", BoxShape{0.0, 0.0, 0.01, 0.01}, FixedPressure{1e5}),
+                        MakeRegion("b", BoxShape{0.005, 0.0, 0.015, 0.01}, FixedPressure{1e5})};
   s.stages[1].regions = {StageRegionSpec{0, 2e5}, StageRegionSpec{1, 2e5}};
   const Status both = ValidateScene(s);
   EXPECT_TRUE(both.ok()) << both.message();

@@ -19,13 +19,13 @@
 namespace seep::core {
 namespace {
 
-constexpr double kViscosity = 1e-3;
+constexpr double kWaterViscosity = 1e-3;
 constexpr double kPressureDrop = 1e5;
 
 SceneSpec PermeameterScene(PackingSource source) {
   SceneSpec scene;
   scene.packing.source = std::move(source);
-  scene.fluid = {kViscosity, 2.2e9};
+  scene.fluid = {kWaterViscosity, 2.2e9};
   scene.aperture = {1e-5, 1.0, 0.0, 0.0};
   scene.boundary.axis = FlowAxis::kX;
   scene.boundary.inlet_pressure_pa = kPressureDrop;
@@ -39,12 +39,12 @@ double MeasurePermeability(SceneNetwork& net, const ApertureLaw& law,
                            const std::vector<double>& force) {
   std::vector<double> aperture(net.flow.num_pipes());
   for (std::size_t p = 0; p < aperture.size(); ++p) aperture[p] = Aperture(law, force[p], 0.0);
-  EXPECT_TRUE(net.flow.SetApertures(aperture, kViscosity).ok());
+  EXPECT_TRUE(net.flow.SetApertures(aperture, kWaterViscosity).ok());
   const auto solved = SolveSteadyState(net.flow);
   EXPECT_TRUE(solved.ok()) << solved.status().ToString();
   const BoundaryFluxes flux = ComputeBoundaryFluxes(net.flow);
   const double q = 0.5 * (flux.total_inflow + flux.total_outflow);
-  const auto k = DarcyPermeability(kViscosity, q, net.length_m, net.width_m, kPressureDrop);
+  const auto k = DarcyPermeability(kWaterViscosity, q, net.length_m, net.width_m, kPressureDrop);
   EXPECT_TRUE(k.ok());
   return k.ok() ? *k : 0.0;
 }

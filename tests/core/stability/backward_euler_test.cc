@@ -21,7 +21,7 @@
 namespace seep::core {
 namespace {
 
-constexpr double kInlet = 1e5;  // Pa; the outlet column is at 0 and the interior starts at 0
+constexpr double kEulerInlet = 1e5;  // Pa; the outlet column is at 0 and the interior starts at 0
 
 TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
   testing::LatticeParams lp;
@@ -29,7 +29,7 @@ TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
   for (const LinearSolverKind kind :
        {LinearSolverKind::kCholmodSupernodal, LinearSolverKind::kEigenSimplicialLdlt}) {
     SCOPED_TRACE(std::string(LinearSolverKindName(kind)));
-    FlowNetwork net = stability::MakeHeterogeneousLattice(18, 14, lp, 3.0, 7, kInlet, 0.0);
+    FlowNetwork net = stability::MakeHeterogeneousLattice(18, 14, lp, 3.0, 7, kEulerInlet, 0.0);
     const stability::PressureBounds bounds = stability::BoundsOf(net);
     ImplicitSolverOptions opt;
     opt.bulk_modulus = lp.bulk_modulus;
@@ -42,12 +42,12 @@ TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
     const double dt = 100.0 * limit->dt_crit;
 
     std::vector<double> previous(net.pressure().begin(), net.pressure().end());
-    double last_change = kInlet;
+    double last_change = kEulerInlet;
     int steps = 0;
     // Probe: the middle of the sample, far from both fixed columns.
     const std::size_t probe = 7 * 18 + 9;
     double probe_before = net.pressure()[probe];
-    while (last_change > 1e-13 * kInlet && steps < 2000) {
+    while (last_change > 1e-13 * kEulerInlet && steps < 2000) {
       const auto r = ledger.Step(*solver, net, dt);
       ASSERT_TRUE(r.ok()) << r.status().ToString();
       ++steps;
@@ -56,19 +56,19 @@ TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
       last_change = 0.0;
       for (std::size_t d = 0; d < net.num_domains(); ++d) {
         // 1e-12 of the range: the solve's rounding once the increments reach it.
-        ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kInlet)
+        ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kEulerInlet)
             << "not monotone at domain " << d << ", step " << steps;
         last_change = std::max(last_change, std::abs(net.pressure()[d] - previous[d]));
         previous[d] = net.pressure()[d];
       }
-      ASSERT_GE(net.pressure()[probe], probe_before - 1e-12 * kInlet);
+      ASSERT_GE(net.pressure()[probe], probe_before - 1e-12 * kEulerInlet);
       probe_before = net.pressure()[probe];
     }
     ASSERT_LT(steps, 2000) << "did not settle";
     EXPECT_TRUE(ledger.Conserved(net));
     EXPECT_TRUE(ledger.SolverReportWithin());
 
-    FlowNetwork steady = stability::MakeHeterogeneousLattice(18, 14, lp, 3.0, 7, kInlet, 0.0);
+    FlowNetwork steady = stability::MakeHeterogeneousLattice(18, 14, lp, 3.0, 7, kEulerInlet, 0.0);
     SteadyStateOptions sopt;
     sopt.linear_solver = kind;
     const auto sr = SolveSteadyState(steady, sopt);
@@ -76,7 +76,7 @@ TEST(Stability, BackwardEulerAtHundredCriticalIsMonotoneAndReachesSteadyState) {
     EXPECT_LE(sr->mass_balance_error, 1e-10);
     double worst = 0.0;
     for (std::size_t d = 0; d < net.num_domains(); ++d) {
-      worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kInlet);
+      worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kEulerInlet);
     }
     // Both solve the same SPD system at the end (the storage term vanishes as P^{n+1} = P^n).
     EXPECT_LE(worst, 1e-10);

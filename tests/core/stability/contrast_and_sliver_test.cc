@@ -23,9 +23,9 @@
 namespace seep::core {
 namespace {
 
-constexpr double kWater = 2.2e9;  // K_f, Pa
-constexpr double kInlet = 1e5;    // Pa
-constexpr int kSide = 12;
+using stability::kWater;
+constexpr double kContrastInlet = 1e5;  // Pa
+constexpr int kContrastSide = 12;
 
 testing::LatticeParams Params() {
   testing::LatticeParams lp;
@@ -37,17 +37,17 @@ testing::LatticeParams Params() {
 // (a horizontal crack from inlet to outlet) get that many times the aperture of their neighbours.
 FlowNetwork Permeameter(double crack_ratio = 1.0) {
   const testing::LatticeParams lp = Params();
-  FlowNetworkData d = testing::MakeSquareLatticeData(kSide, kSide, lp);
+  FlowNetworkData d = testing::MakeSquareLatticeData(kContrastSide, kContrastSide, lp);
   for (std::size_t p = 0; p < d.pipe_aperture.size(); ++p) {
     const int a = d.pipe_domain_a[p];
     const int b = d.pipe_domain_b[p];
-    if (a / kSide == 6 && b == a + 1) {
+    if (a / kContrastSide == 6 && b == a + 1) {
       d.pipe_aperture[p] *= crack_ratio;
       const double ap = d.pipe_aperture[p];
       d.pipe_conductance[p] = ap * ap * ap / (12.0 * lp.viscosity * d.pipe_length[p]);
     }
   }
-  stability::MakePermeameter(d, kSide, kSide, kInlet, 0.0);
+  stability::MakePermeameter(d, kContrastSide, kContrastSide, kContrastInlet, 0.0);
   return testing::MakeOrDie(std::move(d));
 }
 
@@ -112,7 +112,7 @@ void RunBackwardEulerToSteadyState(FlowNetwork net, const FlowNetwork& fresh, co
     ASSERT_TRUE(stability::AllFinite(net));
     ASSERT_TRUE(stability::WithinBounds(net, bounds)) << "step " << step;
     for (std::size_t d = 0; d < net.num_domains(); ++d) {
-      ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kInlet)
+      ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kContrastInlet)
           << "not monotone at domain " << d << ", step " << step;
       previous[d] = net.pressure()[d];
     }
@@ -126,7 +126,7 @@ void RunBackwardEulerToSteadyState(FlowNetwork net, const FlowNetwork& fresh, co
   EXPECT_TRUE(stability::WithinBounds(steady, bounds));
   double worst = 0.0;
   for (std::size_t d = 0; d < net.num_domains(); ++d) {
-    worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kInlet);
+    worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kContrastInlet);
   }
   EXPECT_LE(worst, 1e-10);
   stability::PrintMeasured(std::string(what) + " BE cumulative mass error",
@@ -143,7 +143,7 @@ void ExpectCrackLimits(double ratio, double max_fraction_of_uniform) {
   const auto limit = refusing.CriticalStep(net);
   ASSERT_TRUE(limit.ok());
   EXPECT_LT(limit->dt_crit, max_fraction_of_uniform * UniformCriticalStep());
-  EXPECT_EQ(limit->limiting_domain / kSide, 6);
+  EXPECT_EQ(limit->limiting_domain / kContrastSide, 6);
   const auto refused = refusing.Step(net, 0.9 * UniformCriticalStep());
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition);

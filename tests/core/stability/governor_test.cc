@@ -23,7 +23,7 @@
 namespace seep::core {
 namespace {
 
-constexpr double kWater = 2.2e9;  // K_f, Pa
+using stability::kWater;
 
 // A 14 x 10 square-lattice permeameter with volumes and apertures scattered over a factor of 4
 // either way, plus diagonal pipes in every other cell (odd cycles: not bipartite).

@@ -26,15 +26,16 @@
 namespace seep::core {
 namespace {
 
-constexpr double kWater = 2.2e9;  // K_f, Pa
-constexpr double kRate = 1e-4;    // Q, m^2/s: refills the whole pore space every second
-constexpr int kSide = 10;
-constexpr std::int32_t kSourceDomain = 3 * kSide + 2;
+using stability::kWater;
+constexpr double kRate = 1e-4;  // Q, m^2/s: refills the whole pore space every second
+constexpr int kInjectionSide = 10;
+constexpr std::int32_t kSourceDomain = 3 * kInjectionSide + 2;
 
 FlowNetwork ClosedLatticeWithSource() {
   testing::LatticeParams lp;
   lp.bulk_modulus = kWater;
-  FlowNetwork net = testing::MakeOrDie(testing::MakeSquareLatticeData(kSide, kSide, lp));
+  FlowNetwork net =
+      testing::MakeOrDie(testing::MakeSquareLatticeData(kInjectionSide, kInjectionSide, lp));
   EXPECT_TRUE(net.SetSource(kSourceDomain, kRate).ok());
   return net;
 }

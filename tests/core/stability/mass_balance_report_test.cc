@@ -19,7 +19,7 @@
 namespace seep::core {
 namespace {
 
-constexpr double kWater = 2.2e9;  // K_f, Pa
+using stability::kWater;
 
 // A closed random network relaxed to (nearly) uniform pressure: the steps still run but move
 // almost no fluid.

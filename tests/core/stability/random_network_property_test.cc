@@ -27,7 +27,7 @@ namespace seep::core {
 namespace {
 
 constexpr std::uint64_t kSeeds = 200;
-constexpr double kWater = 2.2e9;  // K_f, Pa
+using stability::kWater;
 
 StorageModel StorageFor(std::uint64_t seed) {
   return {seed % 2 == 0 ? StorageVolume::kPore : StorageVolume::kApparent, 1.0};

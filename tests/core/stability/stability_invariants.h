@@ -33,6 +33,9 @@ namespace seep::core::stability {
 // The mass tolerance of the suite (issue 7): relative, per step and cumulative.
 inline constexpr double kMassTolerance = 1e-10;
 
+// Water's bulk modulus K_f, Pa: the stiff fluid the suite's scenes use.
+inline constexpr double kWater = 2.2e9;
+
 struct PressureBounds {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();

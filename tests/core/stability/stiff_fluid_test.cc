@@ -23,9 +23,9 @@ namespace {
 using stability::FluidLedger;
 using stability::kMassTolerance;
 
-constexpr double kWater = 2.2e9;   // K_f, Pa
-constexpr double kDemStep = 1e-6;  // s, a typical mechanical step (physics.md §4.2)
-constexpr double kInlet = 1e6;     // Pa
+using stability::kWater;
+constexpr double kDemStep = 1e-6;    // s, a typical mechanical step (physics.md §4.2)
+constexpr double kStiffInlet = 1e6;  // Pa
 constexpr int kColumns = 12;
 constexpr int kRows = 10;
 
@@ -40,7 +40,7 @@ testing::LatticeParams FineGrains() {
 
 FlowNetwork FineHoneycombPermeameter() {
   FlowNetworkData d = testing::MakeHoneycombData(kColumns, kRows, FineGrains());
-  stability::MakePermeameter(d, kColumns, kRows, kInlet, 0.0);
+  stability::MakePermeameter(d, kColumns, kRows, kStiffInlet, 0.0);
   return testing::MakeOrDie(std::move(d));
 }
 
@@ -90,7 +90,7 @@ TEST(Stability, StiffWaterExplicitSubCyclesDemStepsBoundedAndConservative) {
   EXPECT_TRUE(ledger.Conserved(replay));
   EXPECT_TRUE(ledger.SolverReportWithin());
   // The front has crossed the sample: interior pressure really moved (not a frozen run).
-  EXPECT_GT(ComputePressureRange(net).max, 0.5 * kInlet);
+  EXPECT_GT(ComputePressureRange(net).max, 0.5 * kStiffInlet);
   stability::PrintMeasured("stiff explicit worst step mass error", worst_advance);
   stability::PrintMeasured("stiff explicit cumulative mass error", ledger.CumulativeError(replay));
 
@@ -199,7 +199,8 @@ TEST(Stability, StiffWaterBackwardEulerTakesWholeDemStepsMonotonically) {
     ASSERT_TRUE(stability::WithinBounds(net, bounds));
     // Start at 0 below the steady state: A^-1 >= 0 (M-matrix) makes every increment >= 0.
     for (std::size_t d = 0; d < net.num_domains(); ++d) {
-      ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kInlet) << "step " << step << " d " << d;
+      ASSERT_GE(net.pressure()[d], previous[d] - 1e-12 * kStiffInlet)
+          << "step " << step << " d " << d;
       previous[d] = net.pressure()[d];
     }
   }
@@ -212,7 +213,7 @@ TEST(Stability, StiffWaterBackwardEulerTakesWholeDemStepsMonotonically) {
   ASSERT_TRUE(SolveSteadyState(steady).ok());
   double worst = 0.0;
   for (std::size_t d = 0; d < net.num_domains(); ++d) {
-    worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kInlet);
+    worst = std::max(worst, std::abs(net.pressure()[d] - steady.pressure()[d]) / kStiffInlet);
   }
   EXPECT_LE(worst, 1e-10);
   stability::PrintMeasured("stiff BE dt/dt_crit", dt_over_crit);

@@ -17,7 +17,7 @@
 namespace seep::core {
 namespace {
 
-constexpr double kInlet = 1e5;  // Pa
+constexpr double kUnrunnableInlet = 1e5;  // Pa
 
 // A rigid 10 x 8 square-lattice permeameter with water, run transiently for 2 ms.
 SceneSpec TransientScene(SolverKind kind, double dt_factor) {
@@ -27,7 +27,7 @@ SceneSpec TransientScene(SolverKind kind, double dt_factor) {
   s.fluid.viscosity_pa_s = 1e-3;
   s.fluid.bulk_modulus_pa = 2.2e9;
   s.aperture.residual_aperture_m = 1e-5;
-  s.boundary.inlet_pressure_pa = kInlet;
+  s.boundary.inlet_pressure_pa = kUnrunnableInlet;
   s.boundary.outlet_pressure_pa = 0.0;
   s.solver.kind = kind;
   s.solver.dt_factor = dt_factor;
@@ -60,8 +60,8 @@ void ExpectRunsBoundedAndConservative(const SceneSpec& scene) {
   ASSERT_TRUE(sim->Run({}).ok());
   const RunReport report = sim->Report();
   EXPECT_LE(MetricOf(report, "mass_balance_error_max"), stability::kMassTolerance);
-  EXPECT_GE(MetricOf(report, "min_pressure_pa"), -1e-12 * kInlet);
-  EXPECT_LE(MetricOf(report, "max_pressure_pa"), kInlet * (1 + 1e-12));
+  EXPECT_GE(MetricOf(report, "min_pressure_pa"), -1e-12 * kUnrunnableInlet);
+  EXPECT_LE(MetricOf(report, "max_pressure_pa"), kUnrunnableInlet * (1 + 1e-12));
   EXPECT_EQ(MetricOf(report, "dt_over_dt_crit"), scene.solver.dt_factor);
   EXPECT_TRUE(stability::AllFinite(sim->network().flow));
 }

@@ -127,8 +127,8 @@ TEST(SimulationStateCodec, StageRunStateKeepsUnsetPeakAndNotHeld) {
   EXPECT_FALSE(plain->stages.has_value());
 }
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kStateNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kStateInf = std::numeric_limits<double>::infinity();
 
 // Numbers the end conditions compare against that no run could have written are DATA_LOSS
 // naming the field.
@@ -138,13 +138,13 @@ TEST(SimulationStateCodec, DamagedStageRunStateIsDataLossNamingTheField) {
     const char* field;
   } cases[] = {
       {[](core::StageRunState& s) { s.start_time_s = -1.0; }, "state.stages.start_time_s:"},
-      {[](core::StageRunState& s) { s.start_time_s = kNaN; }, "state.stages.start_time_s:"},
-      {[](core::StageRunState& s) { s.peak_kinetic_energy_j = kInf; },
+      {[](core::StageRunState& s) { s.start_time_s = kStateNaN; }, "state.stages.start_time_s:"},
+      {[](core::StageRunState& s) { s.peak_kinetic_energy_j = kStateInf; },
        "state.stages.peak_kinetic_energy_j:"},
-      {[](core::StageRunState& s) { s.peak_well_pressure_pa = kNaN; },
+      {[](core::StageRunState& s) { s.peak_well_pressure_pa = kStateNaN; },
        "state.stages.peak_well_pressure_pa:"},
       {[](core::StageRunState& s) { s.held_since_s = -0.5; }, "state.stages.held_since_s:"},
-      {[](core::StageRunState& s) { s.held_since_s = kInf; }, "state.stages.held_since_s:"},
+      {[](core::StageRunState& s) { s.held_since_s = kStateInf; }, "state.stages.held_since_s:"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.field);
