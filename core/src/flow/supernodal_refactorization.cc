@@ -115,8 +115,9 @@ bool OwnFactorColumns(double* a, int nsrow, int nscol) {
 
 }  // namespace
 
-std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
-    const cholmod_factor& L, const SparseMatrix& lower) {
+std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(const cholmod_factor& L,
+                                                                         const SparseMatrix& lower,
+                                                                         int own_kernel_max_rows) {
   if (!L.is_super || !L.is_ll || L.itype != CHOLMOD_INT || L.xtype != CHOLMOD_REAL ||
       L.dtype != CHOLMOD_DOUBLE || L.x == nullptr || !lower.isCompressed() ||
       lower.rows() != static_cast<Eigen::Index>(L.n) || lower.cols() != lower.rows()) {
@@ -134,7 +135,7 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(
   plan.factor_size_ = static_cast<std::size_t>(lpx[nsuper]);
   plan.own_kernels_ = true;
   for (int s = 0; s < nsuper; ++s) {
-    if (lpi[s + 1] - lpi[s] > kOwnKernelMaxRows) plan.own_kernels_ = false;
+    if (lpi[s + 1] - lpi[s] > own_kernel_max_rows) plan.own_kernels_ = false;
   }
   if (plan.own_kernels_) plan.work_.resize(static_cast<std::size_t>(n));
   plan.update_.resize(std::max<std::size_t>(L.maxcsize, 1));

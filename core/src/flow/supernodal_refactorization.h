@@ -32,9 +32,12 @@ class SupernodalRefactorization {
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
   // The plan for factor `L` (supernodal LL', int indices, real, as CHOLMOD left it after a
-  // factorization of `lower`'s pattern). nullopt if `L` is of another kind.
+  // factorization of `lower`'s pattern). nullopt if `L` is of another kind. It takes the own
+  // kernels when no supernode has more than `own_kernel_max_rows` rows (the solvers use
+  // kOwnKernelMaxRows; bench/flow/refactorization_bench sets it to compare the two paths).
   static std::optional<SupernodalRefactorization> Plan(const cholmod_factor_struct& L,
-                                                       const SparseMatrix& lower);
+                                                       const SparseMatrix& lower,
+                                                       int own_kernel_max_rows = kOwnKernelMaxRows);
 
   // Factorizes `lower` (the planned pattern, new values) into L->x. False if the matrix is not
   // positive definite, or not of the planned size; L->x is then undefined and the caller lets
@@ -49,10 +52,13 @@ class SupernodalRefactorization {
   // use its own kernels, or for another size.
   bool Solve(const cholmod_factor_struct& L, const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
 
-  // The largest supernode (rows) of a pattern factorized with the plan's own kernels: up to it a
-  // supernode's columns stay in L1/L2 and the loops beat a BLAS call; beyond, OpenBLAS's blocking
-  // wins (the steady solve of 1e6 unknowns has supernodes of thousands of rows).
-  static constexpr int kOwnKernelMaxRows = 256;
+  // The largest supernode (rows) of a pattern factorized with the plan's own kernels: up to it the
+  // loops beat the BLAS calls; beyond, OpenBLAS's blocking wins (the steady solve of 1e6 unknowns
+  // has supernodes of thousands of rows). seep_refactorization_bench (jittered grids, session
+  // 25), the BLAS path's refactorization time over the own kernels' with one BLAS thread and with
+  // OpenBLAS's default two: largest supernode 275 rows 1.19x and 1.31x, 362 rows 1.09x and
+  // 1.11-1.13x, 428 rows 1.02x and 1.03x, 473 rows 0.90x and 0.87-0.94x.
+  static constexpr int kOwnKernelMaxRows = 384;
 
  private:
   struct Supernode {

@@ -19,38 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "jittered_grid_system.h"
+
 namespace seep::core::flow_internal {
 namespace {
 
-// The lower triangle of a pressure-like system: a conductance Laplacian on a jittered grid (with
-// one diagonal link per cell, so that supernodes are irregular) plus a storage diagonal.
-SparseMatrix GridSystem(int side, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> conductance(1e-3, 1.0);
-  std::uniform_real_distribution<double> storage(1e-6, 1e-2);
-  const int n = side * side;
-  std::vector<Eigen::Triplet<double, int>> entries;
-  std::vector<double> diagonal(static_cast<std::size_t>(n), 0.0);
-  const auto link = [&](int a, int b) {
-    const double c = conductance(rng);
-    diagonal[a] += c;
-    diagonal[b] += c;
-    entries.emplace_back(std::max(a, b), std::min(a, b), -c);
-  };
-  for (int y = 0; y < side; ++y) {
-    for (int x = 0; x < side; ++x) {
-      const int u = y * side + x;
-      if (x + 1 < side) link(u, u + 1);
-      if (y + 1 < side) link(u, u + side);
-      if (x + 1 < side && y + 1 < side && (x + y) % 3 == 0) link(u, u + side + 1);
-    }
-  }
-  for (int u = 0; u < n; ++u) entries.emplace_back(u, u, diagonal[u] + storage(rng));
-  SparseMatrix lower(n, n);
-  lower.setFromTriplets(entries.begin(), entries.end());
-  lower.makeCompressed();
-  return lower;
-}
+using flow_test::GridSystem;
 
 // The same pattern with new values (what a coupled run hands the solver at every update).
 SparseMatrix NewValues(const SparseMatrix& pattern, std::uint64_t seed) {
@@ -119,14 +93,15 @@ std::uint64_t Side60AnswersHash() {
 }
 
 // Side 12: a handful of small supernodes. Side 60: 3,600 unknowns, supernodes of up to about a
-// hundred rows. Both are factorized with the plan's own kernels. Side 160: 25,600 unknowns,
-// supernodes of more than 256 rows, where CHOLMOD's loops run on threads and the BLAS calls are
-// large enough to use OpenBLAS's blocked kernels: CHOLMOD's own arithmetic and bits.
+// hundred rows. Side 160: 25,600 unknowns, a largest supernode of 275 rows. These three are
+// factorized with the plan's own kernels. Side 280: 78,400 unknowns, a supernode of 473 rows,
+// more than kOwnKernelMaxRows: CHOLMOD's loops run on threads and the BLAS calls are large enough
+// to use OpenBLAS's blocked kernels, and the replay has CHOLMOD's own arithmetic and bits.
 class ReplayedFactorization : public ::testing::TestWithParam<int> {};
 
 TEST_P(ReplayedFactorization, GivesCholmodsAnswerForNewValues) {
   const int side = GetParam();
-  const bool own_kernels = side <= 60;
+  const bool own_kernels = side <= 160;
   const SparseMatrix first = GridSystem(side, 1);
   SpdFactorization factorization(LinearSolverKind::kCholmodSupernodal);
   ASSERT_TRUE(factorization.Analyze(first).ok());
@@ -156,7 +131,7 @@ TEST_P(ReplayedFactorization, GivesCholmodsAnswerForNewValues) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Sides, ReplayedFactorization, ::testing::Values(12, 60, 160));
+INSTANTIATE_TEST_SUITE_P(Sides, ReplayedFactorization, ::testing::Values(12, 60, 160, 280));
 
 TEST(ReplayedFactorization, NotPositiveDefiniteFailsAsCholmodDoesAndTheNextOneIsExactAgain) {
   const SparseMatrix first = GridSystem(30, 1);

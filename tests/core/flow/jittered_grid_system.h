@@ -1,0 +1,43 @@
+// The tests' and seep_refactorization_bench's pressure-like system: a conductance Laplacian on a
+// jittered grid (with one diagonal link in three cells, so that supernodes are irregular) plus a
+// storage diagonal, as its lower triangle.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace seep::core::flow_test {
+
+// The system on a side x side grid; `seed` draws its conductances and storage.
+inline Eigen::SparseMatrix<double, Eigen::ColMajor, int> GridSystem(int side, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> conductance(1e-3, 1.0);
+  std::uniform_real_distribution<double> storage(1e-6, 1e-2);
+  const int n = side * side;
+  std::vector<Eigen::Triplet<double, int>> entries;
+  std::vector<double> diagonal(static_cast<std::size_t>(n), 0.0);
+  const auto link = [&](int a, int b) {
+    const double c = conductance(rng);
+    diagonal[a] += c;
+    diagonal[b] += c;
+    entries.emplace_back(std::max(a, b), std::min(a, b), -c);
+  };
+  for (int y = 0; y < side; ++y) {
+    for (int x = 0; x < side; ++x) {
+      const int u = y * side + x;
+      if (x + 1 < side) link(u, u + 1);
+      if (y + 1 < side) link(u, u + side);
+      if (x + 1 < side && y + 1 < side && (x + y) % 3 == 0) link(u, u + side + 1);
+    }
+  }
+  for (int u = 0; u < n; ++u) entries.emplace_back(u, u, diagonal[u] + storage(rng));
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> lower(n, n);
+  lower.setFromTriplets(entries.begin(), entries.end());
+  lower.makeCompressed();
+  return lower;
+}
+
+}  // namespace seep::core::flow_test
