@@ -8,9 +8,10 @@
 
 namespace seep::core::internal {
 
-template <typename T>
-std::size_t VectorBytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
+// The heap of all the vectors passed, summed.
+template <typename... T>
+std::size_t VectorBytes(const std::vector<T>&... v) {
+  return (std::size_t{0} + ... + (v.capacity() * sizeof(T)));
 }
 
 // An id as an index (ids are checked non-negative where they enter).

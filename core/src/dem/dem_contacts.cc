@@ -728,19 +728,12 @@ void DemContactForces::CollectWallContacts(std::vector<DemWallContactRecord>* ou
 }
 
 std::size_t DemContactForces::MemoryBytes() const {
-  return internal::VectorBytes(pairs_) + internal::VectorBytes(slots_) +
-         internal::VectorBytes(sums_) + internal::VectorBytes(packed_) +
-         internal::VectorBytes(gather_start_) + internal::VectorBytes(gather_items_) +
-         internal::VectorBytes(bond_i_) + internal::VectorBytes(bond_j_) +
-         internal::VectorBytes(bond_half_width_) + internal::VectorBytes(bond_state_) +
-         internal::VectorBytes(bond_failure_) + internal::VectorBytes(bond_reported_) +
-         internal::VectorBytes(broken_) + internal::VectorBytes(wall_p_) +
-         internal::VectorBytes(wall_w_) + internal::VectorBytes(wall_shear_) +
-         internal::VectorBytes(wall_fn_) + internal::VectorBytes(wall_gap_) +
-         internal::VectorBytes(wall_loads_) + internal::VectorBytes(wall_extents_) +
-         internal::VectorBytes(ref_x_) + internal::VectorBytes(ref_y_) +
-         internal::VectorBytes(ref_wall_x_) + internal::VectorBytes(ref_wall_y_) +
-         grid_.MemoryBytes() + internal::VectorBytes(row_candidates_);
+  return internal::VectorBytes(pairs_, slots_, sums_, packed_, gather_start_, gather_items_,
+                               bond_i_, bond_j_, bond_half_width_, bond_state_, bond_failure_,
+                               bond_reported_, broken_, wall_p_, wall_w_, wall_shear_, wall_fn_,
+                               wall_gap_, wall_loads_, wall_extents_, ref_x_, ref_y_, ref_wall_x_,
+                               ref_wall_y_, row_candidates_) +
+         grid_.MemoryBytes();
 }
 
 }  // namespace seep::core

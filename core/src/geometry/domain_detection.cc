@@ -48,38 +48,23 @@ void DomainNetwork::Clear() {
 }
 
 std::size_t DomainNetwork::MemoryBytes() const {
-  return internal::VectorBytes(loop_offsets) + internal::VectorBytes(loop_particles) +
-         internal::VectorBytes(loop_contacts) + internal::VectorBytes(apparent_volume) +
-         internal::VectorBytes(pore_volume) + internal::VectorBytes(centroid_x) +
-         internal::VectorBytes(centroid_y) + internal::VectorBytes(is_boundary) +
-         internal::VectorBytes(pipe_domain_a) + internal::VectorBytes(pipe_domain_b) +
-         internal::VectorBytes(pipe_contact) + internal::VectorBytes(pipe_length) +
-         internal::VectorBytes(boundary_pipe_domain) +
-         internal::VectorBytes(boundary_pipe_contact) +
-         internal::VectorBytes(boundary_pipe_outer_face) +
-         internal::VectorBytes(boundary_pipe_length) + internal::VectorBytes(boundary_pipe_x) +
-         internal::VectorBytes(boundary_pipe_y) + internal::VectorBytes(outer_offsets) +
-         internal::VectorBytes(outer_particles) + internal::VectorBytes(outer_contacts) +
-         internal::VectorBytes(outer_area) + internal::VectorBytes(outer_host_domain) +
+  return internal::VectorBytes(
+             loop_offsets, loop_particles, loop_contacts, apparent_volume, pore_volume, centroid_x,
+             centroid_y, is_boundary, pipe_domain_a, pipe_domain_b, pipe_contact, pipe_length,
+             boundary_pipe_domain, boundary_pipe_contact, boundary_pipe_outer_face,
+             boundary_pipe_length, boundary_pipe_x, boundary_pipe_y, outer_offsets, outer_particles,
+             outer_contacts, outer_area, outer_host_domain) +
          walls.MemoryBytes();
 }
 
 std::size_t DomainDetector::MemoryBytes() const {
-  return internal::VectorBytes(degree_) + internal::VectorBytes(vertex_offsets_) +
-         internal::VectorBytes(slot_target_) + internal::VectorBytes(slot_contact_) +
-         internal::VectorBytes(slot_origin_) + internal::VectorBytes(slot_angle_) +
-         internal::VectorBytes(alive_) + internal::VectorBytes(prune_queue_) +
-         internal::VectorBytes(slot_of_lower_) + internal::VectorBytes(slot_of_upper_) +
-         internal::VectorBytes(half_lens_) + internal::VectorBytes(component_) +
-         internal::VectorBytes(slot_face_) + internal::VectorBytes(face_offsets_) +
-         internal::VectorBytes(face_slots_) + internal::VectorBytes(face_signed_area_) +
-         internal::VectorBytes(face_sector_area_) + internal::VectorBytes(face_half_lens_) +
-         internal::VectorBytes(face_centroid_x_) + internal::VectorBytes(face_centroid_y_) +
-         internal::VectorBytes(face_component_) + internal::VectorBytes(face_domain_) +
-         internal::VectorBytes(component_outer_face_) + internal::VectorBytes(grid_start_) +
-         internal::VectorBytes(grid_items_) + internal::VectorBytes(domain_box_) +
-         internal::VectorBytes(particle_host_) + wall_graph_packing_.MemoryBytes() +
-         wall_graph_contacts_.MemoryBytes();
+  return internal::VectorBytes(
+             degree_, vertex_offsets_, slot_target_, slot_contact_, slot_origin_, slot_angle_,
+             alive_, prune_queue_, slot_of_lower_, slot_of_upper_, half_lens_, component_,
+             slot_face_, face_offsets_, face_slots_, face_signed_area_, face_sector_area_,
+             face_half_lens_, face_centroid_x_, face_centroid_y_, face_component_, face_domain_,
+             component_outer_face_, grid_start_, grid_items_, domain_box_, particle_host_) +
+         wall_graph_packing_.MemoryBytes() + wall_graph_contacts_.MemoryBytes();
 }
 
 namespace {

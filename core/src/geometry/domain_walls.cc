@@ -58,10 +58,8 @@ void DomainWalls::Clear() {
 }
 
 std::size_t DomainWalls::MemoryBytes() const {
-  return internal::VectorBytes(vertex_wall) + internal::VectorBytes(vertex_other_wall) +
-         internal::VectorBytes(vertex_particle) + internal::VectorBytes(vertex_x) +
-         internal::VectorBytes(vertex_y) + internal::VectorBytes(edge_wall) +
-         internal::VectorBytes(edge_particle) + internal::VectorBytes(edge_gap);
+  return internal::VectorBytes(vertex_wall, vertex_other_wall, vertex_particle, vertex_x, vertex_y,
+                               edge_wall, edge_particle, edge_gap);
 }
 
 WallContactList FindWallContacts(const Packing& packing, std::span<const WallLine> walls,

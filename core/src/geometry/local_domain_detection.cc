@@ -770,26 +770,15 @@ void LocalDomainDetector::Emit(DomainNetwork* network) const {
 }
 
 std::size_t LocalDomainDetector::MemoryBytes() const {
-  return packing_.MemoryBytes() + internal::VectorBytes(edge_gap_) +
-         internal::VectorBytes(edge_half_lens_) + internal::VectorBytes(edge_in_graph_) +
-         internal::VectorBytes(free_edges_) + internal::VectorBytes(he_origin_) +
-         internal::VectorBytes(he_next_incident_) + internal::VectorBytes(he_ccw_) +
-         internal::VectorBytes(he_cw_) + internal::VectorBytes(he_angle_) +
-         internal::VectorBytes(he_face_) + internal::VectorBytes(first_incident_) +
-         internal::VectorBytes(rotation_first_) + internal::VectorBytes(degree_) +
-         internal::VectorBytes(alive_) + internal::VectorBytes(component_) +
-         internal::VectorBytes(face_kind_) + internal::VectorBytes(face_start_) +
-         internal::VectorBytes(face_area_) + internal::VectorBytes(face_pore_) +
-         internal::VectorBytes(face_centroid_x_) + internal::VectorBytes(face_centroid_y_) +
-         internal::VectorBytes(face_first_held_) + internal::VectorBytes(face_islands_) +
-         internal::VectorBytes(face_component_) + internal::VectorBytes(host_face_) +
-         internal::VectorBytes(next_held_) + internal::VectorBytes(pruned_now_) +
-         internal::VectorBytes(id_scratch_) + internal::VectorBytes(particle_mark_) +
-         internal::VectorBytes(tree_nodes_) + internal::VectorBytes(tree_hosts_) +
-         internal::VectorBytes(tree_degree_) + internal::VectorBytes(new_edges_) +
-         internal::VectorBytes(new_faces_) + internal::VectorBytes(old_face_edges_) +
-         internal::VectorBytes(free_faces_) + internal::VectorBytes(component_outer_face_) +
-         internal::VectorBytes(component_host_face_) + internal::VectorBytes(scratch_);
+  return packing_.MemoryBytes() +
+         internal::VectorBytes(
+             edge_gap_, edge_half_lens_, edge_in_graph_, free_edges_, he_origin_, he_next_incident_,
+             he_ccw_, he_cw_, he_angle_, he_face_, first_incident_, rotation_first_, degree_,
+             alive_, component_, face_kind_, face_start_, face_area_, face_pore_, face_centroid_x_,
+             face_centroid_y_, face_first_held_, face_islands_, face_component_, host_face_,
+             next_held_, pruned_now_, id_scratch_, particle_mark_, tree_nodes_, tree_hosts_,
+             tree_degree_, new_edges_, new_faces_, old_face_edges_, free_faces_,
+             component_outer_face_, component_host_face_, scratch_);
 }
 
 }  // namespace seep::core
