@@ -251,10 +251,11 @@ TEST(PressureForces, MajorArcPushesParticleAwayFromVoid) {
   EXPECT_NEAR(radial, kVoidPressure * kR, 1e-12 * kVoidPressure * kR);
 }
 
-// The branch-free contact point (one division of selected operands) gives the bits of the two
-// rules written out with branches, as physics.md §2.5 states them, on random pairs: equal and
-// unequal radii, gaps, shallow and deep overlaps (clamped), coincident centres. Fails if a
-// select picks the other rule's operand or the clamp's order changes.
+// The contact point with one division of selected operands (ContactFraction), and with no branch
+// at all (ContactFractionNoBranch, the vector loops' form), give the bits of the two rules written
+// out with branches, as physics.md §2.5 states them, on random pairs: equal and unequal radii,
+// gaps, shallow and deep overlaps (clamped), coincident centres. Fails if a select picks the
+// other rule's operand or the clamp's order changes.
 TEST(PressureForces, ContactFractionIsTheTwoRulesBitForBit) {
   const auto two_rules = [](double r_lo, double r_hi, double d2) {
     if (!(d2 > 0.0)) return 0.5;
@@ -275,6 +276,10 @@ TEST(PressureForces, ContactFractionIsTheTwoRulesBitForBit) {
     const double got = ContactFraction(r_lo, r_hi, d2);
     ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(expected))
         << "r_lo " << r_lo << " r_hi " << r_hi << " d2 " << d2;
+    // The vector loops' form: every operand computed and selected, a division by 0 at d2 = 0.
+    const double no_branch = ContactFractionNoBranch(r_lo, r_hi, d2);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(no_branch), std::bit_cast<std::uint64_t>(expected))
+        << "no branch: r_lo " << r_lo << " r_hi " << r_hi << " d2 " << d2;
     overlaps += d2 < (r_lo + r_hi) * (r_lo + r_hi);
     gaps += !(d2 < (r_lo + r_hi) * (r_lo + r_hi));
     clamped += expected == 0.0 || expected == 1.0;

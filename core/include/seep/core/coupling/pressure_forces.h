@@ -101,6 +101,10 @@ class PressureForceKernel {
   };
   // The threaded path's per-particle lists and slots for the bound contacts.
   void BuildSides() const;
+  // The forces of contacts [begin, begin + count), count at most a block (in the .cc).
+  struct BlockForces;
+  void ForcesOfBlock(const ParticleView& particles, const double* slot_pressure,
+                     std::ptrdiff_t begin, std::ptrdiff_t count, BlockForces* out) const;
 
   std::vector<ContactTerms> terms_;
   std::size_t num_slots_ = 0;
