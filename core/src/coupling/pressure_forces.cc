@@ -197,48 +197,20 @@ void PressureForceKernel::BuildSides() const {
 
 namespace {
 
-// Contacts per block of Apply: the block's gathered inputs and forces (ten arrays of doubles,
+// Contacts per block of Apply: a block's gathered inputs and forces (ten arrays of doubles,
 // 20 kB) stay in L1 between its passes.
 constexpr std::ptrdiff_t kForceBlock = 256;
 
-}  // namespace
-
-// The pressure forces of a block of contacts on their lo and hi particles.
-struct PressureForceKernel::BlockForces {
-  alignas(64) double lo_x[kForceBlock];
-  alignas(64) double lo_y[kForceBlock];
-  alignas(64) double hi_x[kForceBlock];
-  alignas(64) double hi_y[kForceBlock];
+// The pressure force of one contact on its lo and on its hi particle.
+struct SideForces {
+  double lo_x, lo_y, hi_x, hi_y;
 };
 
-// Per contact, each side's pressure difference times R(arm), R(v) = (v_y, -v_x) (see the header),
-// with the arms of ComputeContactArms (lo < hi: Bind pairs the walks so). Three passes over a
-// block: gather what each contact reads into contiguous arrays, the contact points and forces
-// as vectors (ContactFractionNoBranch: one square root and one division per lane; the scalar
-// loop waited on both for every contact, a third of the pass), nothing else. The same
-// operations per contact as before, so the same bits.
-void PressureForceKernel::ForcesOfBlock(const ParticleView& particles, const double* slot_pressure,
-                                        std::ptrdiff_t begin, std::ptrdiff_t count,
-                                        BlockForces* out) const {
-  alignas(64) double dx[kForceBlock], dy[kForceBlock], r_lo[kForceBlock], r_hi[kForceBlock];
-  alignas(64) double dp_lo[kForceBlock], dp_hi[kForceBlock];
-  const ContactTerms* t = terms_.data() + begin;
-  const double* x = particles.x.data();
-  const double* y = particles.y.data();
-  const double* r = particles.radius.data();
-  for (std::ptrdiff_t k = 0; k < count; ++k) {
-    const std::ptrdiff_t lo = t[k].lo, hi = t[k].hi;
-    dx[k] = x[hi] - x[lo];
-    dy[k] = y[hi] - y[lo];
-    r_lo[k] = r[lo];
-    r_hi[k] = r[hi];
-    dp_lo[k] = slot_pressure[t[k].forward_lo] - slot_pressure[t[k].backward_lo];
-    dp_hi[k] = slot_pressure[t[k].backward_hi] - slot_pressure[t[k].forward_hi];
-  }
-  double* __restrict lo_x = out->lo_x;
-  double* __restrict lo_y = out->lo_y;
-  double* __restrict hi_x = out->hi_x;
-  double* __restrict hi_y = out->hi_y;
+// The forces of the gathered contacts [0, count) (see ForcesOfBlock), as vectors.
+void ForcesOfGathered(std::ptrdiff_t count, const double* dx, const double* dy, const double* r_lo,
+                      const double* r_hi, const double* dp_lo, const double* dp_hi,
+                      double* __restrict lo_x, double* __restrict lo_y, double* __restrict hi_x,
+                      double* __restrict hi_y) {
 #pragma omp simd
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const double f = ContactFractionNoBranch(r_lo[k], r_hi[k], dx[k] * dx[k] + dy[k] * dy[k]);
@@ -248,6 +220,59 @@ void PressureForceKernel::ForcesOfBlock(const ParticleView& particles, const dou
     lo_y[k] = -dp_lo[k] * arm_lo_x;
     hi_x[k] = dp_hi[k] * arm_hi_y;
     hi_y[k] = -dp_hi[k] * arm_hi_x;
+  }
+}
+
+}  // namespace
+
+// Per contact, each side's pressure difference times R(arm), R(v) = (v_y, -v_x) (see the header),
+// with the arms of ComputeContactArms (lo < hi: Bind pairs the walks so), the same operations
+// per contact, so the same bits; sink(c, SideForces) takes them in ascending contact order.
+// Contacts of equal radii, where ContactFraction is 0.5 exactly whatever the distance, are done
+// one by one as they are read (a lattice or monodisperse packing does every contact so: any
+// gather into arrays cost it more than it saved). From the first contact of unequal radii on,
+// the rest of the block is gathered into contiguous arrays and its contact points and forces
+// made as vectors (ContactFractionNoBranch: one square root and one division per lane, where a
+// scalar loop waited on both for every contact).
+template <typename Sink>
+void PressureForceKernel::ForcesOfBlock(const ParticleView& particles, const double* slot_pressure,
+                                        std::ptrdiff_t begin, std::ptrdiff_t count,
+                                        Sink& sink) const {
+  const ContactTerms* t = terms_.data() + begin;
+  const double* x = particles.x.data();
+  const double* y = particles.y.data();
+  const double* r = particles.radius.data();
+  std::ptrdiff_t k = 0;
+  for (; k < count; ++k) {
+    const std::ptrdiff_t lo = t[k].lo, hi = t[k].hi;
+    if (r[lo] != r[hi]) break;
+    const double dx = x[hi] - x[lo], dy = y[hi] - y[lo];
+    const double dp_lo = slot_pressure[t[k].forward_lo] - slot_pressure[t[k].backward_lo];
+    const double dp_hi = slot_pressure[t[k].backward_hi] - slot_pressure[t[k].forward_hi];
+    // f = 0.5 and f - 1 = -0.5, both exact.
+    sink(begin + k, SideForces{dp_lo * (0.5 * dy), -dp_lo * (0.5 * dx), dp_hi * (-0.5 * dy),
+                               -dp_hi * (-0.5 * dx)});
+  }
+  if (k == count) return;
+  const std::ptrdiff_t first = k;
+  alignas(64) double dx[kForceBlock], dy[kForceBlock], r_lo[kForceBlock], r_hi[kForceBlock];
+  alignas(64) double dp_lo[kForceBlock], dp_hi[kForceBlock];
+  for (; k < count; ++k) {
+    const std::ptrdiff_t lo = t[k].lo, hi = t[k].hi;
+    dx[k] = x[hi] - x[lo];
+    dy[k] = y[hi] - y[lo];
+    r_lo[k] = r[lo];
+    r_hi[k] = r[hi];
+    dp_lo[k] = slot_pressure[t[k].forward_lo] - slot_pressure[t[k].backward_lo];
+    dp_hi[k] = slot_pressure[t[k].backward_hi] - slot_pressure[t[k].forward_hi];
+  }
+  alignas(64) double out_lo_x[kForceBlock], out_lo_y[kForceBlock];
+  alignas(64) double out_hi_x[kForceBlock], out_hi_y[kForceBlock];
+  ForcesOfGathered(count - first, dx + first, dy + first, r_lo + first, r_hi + first, dp_lo + first,
+                   dp_hi + first, out_lo_x + first, out_lo_y + first, out_hi_x + first,
+                   out_hi_y + first);
+  for (k = first; k < count; ++k) {
+    sink(begin + k, SideForces{out_lo_x[k], out_lo_y[k], out_hi_x[k], out_hi_y[k]});
   }
 }
 
@@ -272,16 +297,15 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
     }
   };
   const auto contacts = static_cast<std::ptrdiff_t>(terms_.size());
-  BlockForces block;
   if (!internal::OnTeam(contacts)) {
     // One thread: add each contact's forces straight away, in ascending contact order.
+    auto add_both = [&](std::ptrdiff_t c, const SideForces& s) {
+      add(terms[c].lo, s.lo_x, s.lo_y);
+      add(terms[c].hi, s.hi_x, s.hi_y);
+    };
     for (std::ptrdiff_t begin = 0; begin < contacts; begin += kForceBlock) {
-      const std::ptrdiff_t count = std::min(kForceBlock, contacts - begin);
-      ForcesOfBlock(particles, slot_pressure, begin, count, &block);
-      for (std::ptrdiff_t k = 0; k < count; ++k) {
-        add(terms[begin + k].lo, block.lo_x[k], block.lo_y[k]);
-        add(terms[begin + k].hi, block.hi_x[k], block.hi_y[k]);
-      }
+      ForcesOfBlock(particles, slot_pressure, begin, std::min(kForceBlock, contacts - begin),
+                    add_both);
     }
     return;
   }
@@ -295,19 +319,17 @@ void PressureForceKernel::Apply(const ParticleView& particles, const double* slo
   const auto n = static_cast<std::ptrdiff_t>(side_start_.size()) - 1;
   const std::ptrdiff_t blocks = (contacts + kForceBlock - 1) / kForceBlock;
   internal::RunOnTeam(internal::CoreThreads(), [&](const internal::TeamMember& member) {
-    BlockForces own;  // each member's own scratch
+    auto to_slots = [&](std::ptrdiff_t c, const SideForces& s) {
+      side_x[2 * c] = s.lo_x;
+      side_y[2 * c] = s.lo_y;
+      side_x[2 * c + 1] = s.hi_x;
+      side_y[2 * c + 1] = s.hi_y;
+    };
     const auto [first_block, last_block] = member.Share(blocks);
     for (std::ptrdiff_t b = first_block; b < last_block; ++b) {
       const std::ptrdiff_t begin = b * kForceBlock;
-      const std::ptrdiff_t count = std::min(kForceBlock, contacts - begin);
-      ForcesOfBlock(particles, slot_pressure, begin, count, &own);
-      for (std::ptrdiff_t k = 0; k < count; ++k) {
-        const std::ptrdiff_t c = begin + k;
-        side_x[2 * c] = own.lo_x[k];
-        side_y[2 * c] = own.lo_y[k];
-        side_x[2 * c + 1] = own.hi_x[k];
-        side_y[2 * c + 1] = own.hi_y[k];
-      }
+      ForcesOfBlock(particles, slot_pressure, begin, std::min(kForceBlock, contacts - begin),
+                    to_slots);
     }
     member.Barrier();  // the gather reads the other members' slots
     const auto [first, last] = member.Share(n);

@@ -101,10 +101,11 @@ class PressureForceKernel {
   };
   // The threaded path's per-particle lists and slots for the bound contacts.
   void BuildSides() const;
-  // The forces of contacts [begin, begin + count), count at most a block (in the .cc).
-  struct BlockForces;
+  // The forces of contacts [begin, begin + count), count at most a block, handed to sink in
+  // contact order (defined and used in the .cc).
+  template <typename Sink>
   void ForcesOfBlock(const ParticleView& particles, const double* slot_pressure,
-                     std::ptrdiff_t begin, std::ptrdiff_t count, BlockForces* out) const;
+                     std::ptrdiff_t begin, std::ptrdiff_t count, Sink& sink) const;
 
   std::vector<ContactTerms> terms_;
   std::size_t num_slots_ = 0;
