@@ -62,10 +62,14 @@ inline double TurnAngle(double cross, double dot) {
 
 // kPore = false: the shoelace alone (V_d), with the same summation as kPore = true.
 // entry_term[q] = 2 e + (1 if the loop walks edge e from hi to lo): the pore term of entry q.
+// Always inlined: GCC made it a call per domain returning its two sums through the stack, and
+// the short loops (four or five entries) of the next domains could not start until it returned.
 template <bool kPore>
-LoopMeasure MeasureLoop(const ParticleView& p, const std::int32_t* loop,
-                        const std::int32_t* entry_term, const double* term, std::size_t begin,
-                        std::size_t end) {
+[[gnu::always_inline]] inline LoopMeasure MeasureLoop(const ParticleView& p,
+                                                      const std::int32_t* loop,
+                                                      const std::int32_t* entry_term,
+                                                      const double* term, std::size_t begin,
+                                                      std::size_t end) {
   LoopMeasure m;
   if (end <= begin) return m;
   const double* x = p.x.data();
