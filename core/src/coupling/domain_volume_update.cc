@@ -61,7 +61,8 @@ inline double TurnAngle(double cross, double dot) {
 }
 
 // kPore = false: the shoelace alone (V_d), with the same summation as kPore = true.
-// entry_term[q] = 2 e + (1 if the loop walks edge e from hi to lo): the pore term of entry q.
+// entry_term[q] = e, or E + e if the loop walks edge e from hi to lo (E edges): the pore term of
+// entry q.
 // Always inlined: GCC made it a call per domain returning its two sums through the stack, and
 // the short loops (four or five entries) of the next domains could not start until it returned.
 template <bool kPore>
@@ -190,12 +191,13 @@ namespace {
 // terms rather than held per entry (8 bytes an entry, about 48 a particle), with the very vectors
 // of the bind positions: an edge holds x[hi] - x[lo], and x[lo] - x[hi] is exactly
 // 0 - (x[hi] - x[lo]) (+0 for equal coordinates too, where -(x[hi] - x[lo]) would be -0).
-double BindWedgeAngle(std::int32_t entry_term, std::int32_t next_entry_term, const double* x0,
-                      const double* y0) {
-  // dir 0: the entry walks its edge lo -> hi; the angle's "in" vector points back along it.
-  const auto e = static_cast<std::size_t>(entry_term / 2);
-  const auto e1 = static_cast<std::size_t>(next_entry_term / 2);
-  const bool back = (entry_term & 1) == 0, next_forward = (next_entry_term & 1) == 0;
+double BindWedgeAngle(std::int32_t entry_term, std::int32_t next_entry_term, std::int32_t edges,
+                      const double* x0, const double* y0) {
+  // An entry below `edges` walks its edge lo -> hi; the angle's "in" vector points back along it.
+  const bool back = entry_term < edges, next_forward = next_entry_term < edges;
+  const auto e = static_cast<std::size_t>(back ? entry_term : entry_term - edges);
+  const auto e1 =
+      static_cast<std::size_t>(next_forward ? next_entry_term : next_entry_term - edges);
   const double in_x = back ? 0.0 - x0[e] : x0[e], in_y = back ? 0.0 - y0[e] : y0[e];
   const double out_x = next_forward ? x0[e1] : 0.0 - x0[e1];
   const double out_y = next_forward ? y0[e1] : 0.0 - y0[e1];
@@ -206,8 +208,8 @@ double BindWedgeAngle(std::int32_t entry_term, std::int32_t next_entry_term, con
 
 // Sector sum at the Bind angles with the radii r, per face (CSR offsets over the loop entries).
 void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::int32_t> loop,
-                   const std::vector<std::int32_t>& entry_term, const double* x0, const double* y0,
-                   const double* r, std::vector<double>* out) {
+                   const std::vector<std::int32_t>& entry_term, std::int32_t edges,
+                   const double* x0, const double* y0, const double* r, std::vector<double>* out) {
   out->assign(offsets.empty() ? 0 : offsets.size() - 1, 0.0);
   for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
     const auto begin = static_cast<std::size_t>(offsets[f]);
@@ -216,7 +218,7 @@ void SectorsAtBind(std::span<const std::int32_t> offsets, std::span<const std::i
     for (std::size_t q = begin; q < end; ++q) {
       const std::size_t q1 = q + 1 < end ? q + 1 : begin;
       const auto w = static_cast<std::size_t>(loop[q1]);
-      const double theta0 = BindWedgeAngle(entry_term[q], entry_term[q1], x0, y0);
+      const double theta0 = BindWedgeAngle(entry_term[q], entry_term[q1], edges, x0, y0);
       sector += 0.5 * theta0 * r[w] * r[w];
     }
     (*out)[f] = sector;
@@ -235,10 +237,10 @@ DomainVolumeUpdater::SectorSums DomainVolumeUpdater::Sectors(const ParticleView&
                                            bind_radius_.size() * sizeof(double)) == 0)) {
     return SectorSums{bind_loop_sector_, bind_outer_sector_, true};
   }
-  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_entry_term_, edge_x0_.data(),
-                edge_y0_.data(), particles.radius.data(), &loop_sector_);
-  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_entry_term_, edge_x0_.data(),
-                edge_y0_.data(), particles.radius.data(), &outer_sector_);
+  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_entry_term_, NumEdges(),
+                edge_x0_.data(), edge_y0_.data(), particles.radius.data(), &loop_sector_);
+  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_entry_term_, NumEdges(),
+                edge_x0_.data(), edge_y0_.data(), particles.radius.data(), &outer_sector_);
   return SectorSums{loop_sector_, outer_sector_, false};
 }
 
@@ -275,7 +277,7 @@ struct EdgeInputs {
 // The terms of edges [begin, begin + count), count <= kEdgeBlock. Writes per edge only.
 template <bool kBindRadii>
 void EdgeTermsBlock(const EdgeInputs& in, std::ptrdiff_t begin, std::ptrdiff_t count,
-                    double* __restrict term) {
+                    double* __restrict forward, double* __restrict backward) {
   alignas(64) double gx[kEdgeBlock], gy[kEdgeBlock], g_lo[kEdgeBlock], g_hi[kEdgeBlock];
   alignas(64) double slow[kEdgeBlock];
   const std::int32_t* __restrict lo_of = in.lo + begin;
@@ -284,7 +286,8 @@ void EdgeTermsBlock(const EdgeInputs& in, std::ptrdiff_t begin, std::ptrdiff_t c
   const double* __restrict y0 = in.y0 + begin;
   const double* __restrict inv_lo = in.inv_r_lo + begin;
   const double* __restrict inv_hi = in.inv_r_hi + begin;
-  term += 2 * begin;
+  forward += begin;
+  backward += begin;
   // Pass 0 gathers what each edge reads into contiguous arrays (no gathers in SSE2 vectors).
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::ptrdiff_t lo = lo_of[k], hi = hi_of[k];
@@ -309,8 +312,8 @@ void EdgeTermsBlock(const EdgeInputs& in, std::ptrdiff_t begin, std::ptrdiff_t c
     const bool lens_ok = ShallowHalfLens(r_lo, r_hi, kBindRadii ? inv_lo[k] : 1.0 / r_lo,
                                          kBindRadii ? inv_hi[k] : 1.0 / r_hi, dx, dy, &half_lens);
     const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
-    term[2 * k] = half_lens - sector_turn;      // walked lo -> hi
-    term[2 * k + 1] = half_lens + sector_turn;  // walked hi -> lo
+    forward[k] = half_lens - sector_turn;       // walked lo -> hi
+    backward[k] = half_lens + sector_turn;      // walked hi -> lo
     slow[k] = (turn_ok & lens_ok) ? 0.0 : 1.0;  // a double: a byte store stops the vectoriser
   }
   // Pass 2: the flagged few (a large turn since Bind, a deep overlap; every edge of a wall
@@ -323,8 +326,8 @@ void EdgeTermsBlock(const EdgeInputs& in, std::ptrdiff_t begin, std::ptrdiff_t c
     const double r_lo = g_lo[k], r_hi = g_hi[k];
     const double half_lens = HalfLens(r_lo, r_hi, dx, dy);
     const double sector_turn = 0.5 * turn * (r_hi * r_hi - r_lo * r_lo);
-    term[2 * k] = half_lens - sector_turn;
-    term[2 * k + 1] = half_lens + sector_turn;
+    forward[k] = half_lens - sector_turn;
+    backward[k] = half_lens + sector_turn;
   }
 }
 
@@ -348,7 +351,8 @@ void DomainVolumeUpdater::ComputeEdgeTermsWith(const ParticleView& particles) co
     const auto [first_block, last_block] = member.Share(blocks);
     for (std::ptrdiff_t b = first_block; b < last_block; ++b) {
       const std::ptrdiff_t begin = b * kEdgeBlock;
-      EdgeTermsBlock<kBindRadii>(in, begin, std::min(kEdgeBlock, edges - begin), term);
+      EdgeTermsBlock<kBindRadii>(in, begin, std::min(kEdgeBlock, edges - begin), term,
+                                 term + edges);
     }
   });
 }
@@ -390,7 +394,7 @@ Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const Domai
                                  std::to_string(q) + "]: contact " + std::to_string(c) +
                                  " joins other particles elsewhere in the loops");
         }
-        (*entry_term)[q] = 2 * edge + (a < b ? 0 : 1);
+        (*entry_term)[q] = 2 * edge + (a < b ? 0 : 1);  // made e or E + e below
       }
     }
     return Status::Ok();
@@ -409,6 +413,11 @@ Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const Domai
   edge_x0_.shrink_to_fit();
   edge_y0_.shrink_to_fit();
   const std::size_t edges = edge_lo_.size();
+  // The terms of the walks lo -> hi first, then those of the walks hi -> lo: the edge pass
+  // stores each as a vector, where interleaved pairs took shuffles.
+  for (std::vector<std::int32_t>* entries : {&loop_entry_term_, &outer_entry_term_}) {
+    for (std::int32_t& t : *entries) t = (t & 1) ? NumEdges() + t / 2 : t / 2;
+  }
   edge_term_.assign(2 * edges, 0.0);
   edge_inv_r_lo_.resize(edges);
   edge_inv_r_hi_.resize(edges);
@@ -417,10 +426,10 @@ Status DomainVolumeUpdater::BindEdges(const ParticleView& particles, const Domai
     edge_inv_r_hi_[e] = 1.0 / particles.radius[static_cast<std::size_t>(edge_hi_[e])];
   }
   bind_radius_.assign(particles.radius.begin(), particles.radius.end());
-  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_entry_term_, edge_x0_.data(),
-                edge_y0_.data(), particles.radius.data(), &bind_loop_sector_);
-  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_entry_term_, edge_x0_.data(),
-                edge_y0_.data(), particles.radius.data(), &bind_outer_sector_);
+  SectorsAtBind(network.loop_offsets, network.loop_particles, loop_entry_term_, NumEdges(),
+                edge_x0_.data(), edge_y0_.data(), particles.radius.data(), &bind_loop_sector_);
+  SectorsAtBind(network.outer_offsets, network.outer_particles, outer_entry_term_, NumEdges(),
+                edge_x0_.data(), edge_y0_.data(), particles.radius.data(), &bind_outer_sector_);
   return Status::Ok();
 }
 

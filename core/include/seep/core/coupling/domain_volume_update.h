@@ -90,10 +90,11 @@ class DomainVolumeUpdater {
   std::size_t bound_particles_ = 0;
   // Edges: particles (lo < hi) and the vector lo -> hi at Bind.
   std::vector<std::int32_t> edge_lo_, edge_hi_;
+  std::int32_t NumEdges() const { return static_cast<std::int32_t>(edge_lo_.size()); }
   std::vector<double> edge_x0_, edge_y0_;
-  // Per entry of the domain loops and of the outer walks: 2 x (edge to the next entry) + 1 if it
-  // is walked hi -> lo. (The wedge angles at Bind come from these and the edge vectors when the
-  // radii change, see BindWedgeAngle.)
+  // Per entry of the domain loops and of the outer walks: the edge e to the next entry, or
+  // NumEdges() + e if it is walked hi -> lo, the index of its term. (The wedge angles at Bind come
+  // from these and the edge vectors when the radii change, see BindWedgeAngle.)
   std::vector<std::int32_t> loop_entry_term_, outer_entry_term_;
   // Radii and sector sums per face at Bind.
   std::vector<double> bind_radius_, bind_loop_sector_, bind_outer_sector_;
