@@ -118,15 +118,14 @@ Shares Measure(const Packing& bed, std::uint64_t steps, std::uint64_t flow_every
     // The timed steps in kWindows windows: the run's time is their sum; per effect, the fastest
     // window's time, which a busy neighbour on the machine does not reach as easily as the sum.
     constexpr std::uint64_t kWindows = 40;
-    std::vector<double> fastest;
     auto before = sim->stepper().EffectSeconds();
+    std::vector<double> fastest(before.size(), std::numeric_limits<double>::infinity());
     out.seconds[coupled] = 0.0;
     for (std::uint64_t w = 0; w < kWindows; ++w) {
       const std::uint64_t window = steps / kWindows + (w < steps % kWindows ? 1 : 0);
       if (window == 0) continue;
       out.seconds[coupled] += RunSteps(*sim, window);
       const auto after = sim->stepper().EffectSeconds();
-      fastest.resize(after.size(), std::numeric_limits<double>::infinity());
       for (std::size_t k = 0; k < after.size(); ++k) {
         fastest[k] = std::min(fastest[k], (after[k].second - before[k].second) / window);
       }

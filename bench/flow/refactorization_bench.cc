@@ -13,6 +13,7 @@
 // supernode's rows, and the ratio BLAS / own (above 1: the own kernels are faster).
 #include <cholmod.h>
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -32,23 +33,6 @@ using seep::core::flow_internal::SupernodalRefactorization;
 using SparseMatrix = SupernodalRefactorization::SparseMatrix;
 using Clock = std::chrono::steady_clock;
 using seep::core::flow_test::GridSystem;
-
-// `lower` as CHOLMOD's symmetric matrix (stored lower triangle), without a copy.
-cholmod_sparse ViewLower(SparseMatrix& lower) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<std::size_t>(lower.rows());
-  a.nzmax = static_cast<std::size_t>(lower.nonZeros());
-  a.p = lower.outerIndexPtr();
-  a.i = lower.innerIndexPtr();
-  a.x = lower.valuePtr();
-  a.stype = -1;
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_REAL;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  return a;
-}
 
 template <typename F>
 double BestSeconds(int repeats, F&& f) {
@@ -74,6 +58,10 @@ std::vector<int> ParseSides(const char* text) {
 int main(int argc, char** argv) {
   const std::vector<int> sides = ParseSides(argc > 1 ? argv[1] : "20,40,70,100,140,200,280");
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 15;
+  if (repeats < 1) {
+    std::fprintf(stderr, "repeats: must be a whole number of at least 1 (got '%s')\n", argv[2]);
+    return 1;
+  }
   cholmod_common common;
   cholmod_start(&common);
   common.supernodal = CHOLMOD_SUPERNODAL;
@@ -90,8 +78,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "side %d: must be at least 2\n", side);
       return 1;
     }
-    SparseMatrix lower = GridSystem(side, 1);
-    cholmod_sparse a = ViewLower(lower);
+    const SparseMatrix lower = GridSystem(side, 1);
+    // CHOLMOD's symmetric matrix (stored lower triangle), without a copy.
+    cholmod_sparse a = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
     cholmod_factor* factor = cholmod_analyze(&a, &common);
     if (factor == nullptr || !cholmod_factorize(&a, factor, &common) || !factor->is_super) {
       std::fprintf(stderr, "side %d: CHOLMOD did not make a supernodal factor\n", side);
@@ -118,14 +107,7 @@ int main(int argc, char** argv) {
     own->Refactorize(next, *factor);
     const double solve_own = BestSeconds(repeats, [&] { own->Solve(*factor, rhs, x); });
     blas->Refactorize(next, *factor);
-    cholmod_dense b{};
-    b.nrow = static_cast<std::size_t>(rhs.size());
-    b.ncol = 1;
-    b.nzmax = b.nrow;
-    b.d = b.nrow;
-    b.x = rhs.data();
-    b.xtype = CHOLMOD_REAL;
-    b.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense b = Eigen::viewAsCholmod(rhs);
     cholmod_dense* solution = nullptr;
     cholmod_dense* y = nullptr;
     cholmod_dense* e = nullptr;

@@ -242,13 +242,19 @@ void PressureForceKernel::ForcesOfBlock(const ParticleView& particles, const dou
   const double* x = particles.x.data();
   const double* y = particles.y.data();
   const double* r = particles.radius.data();
+  // Each side's pressure difference: F1 - F2 on lo's arc, F2 - F1 on hi's.
+  const auto lo_difference = [slot_pressure](const ContactTerms& c) {
+    return slot_pressure[c.forward_lo] - slot_pressure[c.backward_lo];
+  };
+  const auto hi_difference = [slot_pressure](const ContactTerms& c) {
+    return slot_pressure[c.backward_hi] - slot_pressure[c.forward_hi];
+  };
   std::ptrdiff_t k = 0;
   for (; k < count; ++k) {
     const std::ptrdiff_t lo = t[k].lo, hi = t[k].hi;
     if (r[lo] != r[hi]) break;
     const double dx = x[hi] - x[lo], dy = y[hi] - y[lo];
-    const double dp_lo = slot_pressure[t[k].forward_lo] - slot_pressure[t[k].backward_lo];
-    const double dp_hi = slot_pressure[t[k].backward_hi] - slot_pressure[t[k].forward_hi];
+    const double dp_lo = lo_difference(t[k]), dp_hi = hi_difference(t[k]);
     // f = 0.5 and f - 1 = -0.5, both exact.
     sink(begin + k, SideForces{dp_lo * (0.5 * dy), -dp_lo * (0.5 * dx), dp_hi * (-0.5 * dy),
                                -dp_hi * (-0.5 * dx)});
@@ -263,8 +269,8 @@ void PressureForceKernel::ForcesOfBlock(const ParticleView& particles, const dou
     dy[k] = y[hi] - y[lo];
     r_lo[k] = r[lo];
     r_hi[k] = r[hi];
-    dp_lo[k] = slot_pressure[t[k].forward_lo] - slot_pressure[t[k].backward_lo];
-    dp_hi[k] = slot_pressure[t[k].backward_hi] - slot_pressure[t[k].forward_hi];
+    dp_lo[k] = lo_difference(t[k]);
+    dp_hi[k] = hi_difference(t[k]);
   }
   alignas(64) double out_lo_x[kForceBlock], out_lo_y[kForceBlock];
   alignas(64) double out_hi_x[kForceBlock], out_hi_y[kForceBlock];

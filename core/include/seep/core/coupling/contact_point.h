@@ -32,18 +32,12 @@ inline double SelectBits(bool c, double a, double b) {
                                (std::bit_cast<std::uint64_t>(b) & ~mask));
 }
 
-// Fraction of the way from centre lo to centre hi at which the contact point lies, in [0, 1].
-// d2 = squared centre distance (0 gives 1/2: coincident centres have zero-length arms anyway).
-inline double ContactFraction(double r_lo, double r_hi, double d2) {
-  if (!(d2 > 0.0)) return 0.5;
-  // Equal radii (lattices, monodisperse DEM): both rules give 0.5 + (+0)/(...) = 0.5 exactly, so
-  // the division, most of the work per contact there, is skipped. A branch that goes one way for
-  // a whole monodisperse or polydisperse packing.
-  if (r_lo == r_hi) return 0.5;
-  // Overlap: the radical line, 0.5 + (r_lo^2 - r_hi^2) / (2 d2); a gap: mid-gap,
-  // 0.5 + (r_lo - r_hi) / (2 d). Both operands selected, one division: whether a loop contact
-  // overlaps or holds a gap changes from contact to contact in a settled packing, and a branch
-  // on it was mispredicted about every other contact (the same bits either way).
+// The contact fraction by the rule of the pair's state, for d2 > 0: overlap, the radical line,
+// 0.5 + (r_lo^2 - r_hi^2) / (2 d2); a gap, mid-gap, 0.5 + (r_lo - r_hi) / (2 d). Both operands
+// selected, one division: whether a loop contact overlaps or holds a gap changes from contact to
+// contact in a settled packing, and a branch on it was mispredicted about every other contact
+// (the same bits either way); the selects on the bits also vectorise.
+inline double ContactFractionOfEitherRule(double r_lo, double r_hi, double d2) {
   const double sum = r_lo + r_hi;
   const bool overlap = d2 < sum * sum;
   const double distance = std::sqrt(d2);
@@ -56,18 +50,23 @@ inline double ContactFraction(double r_lo, double r_hi, double d2) {
   return 1.0 < f ? 1.0 : f;
 }
 
-// ContactFraction without a branch, for `omp simd` loops: both rules and both shortcuts computed
-// and selected, so a vector of contacts takes one square root and one division per lane. The same
-// bits as ContactFraction: with equal radii both rules give 0.5 + (+0) / (positive) = 0.5, and
-// coincident centres (d2 = 0, a division by zero here) select 0.5 after the fact.
+// Fraction of the way from centre lo to centre hi at which the contact point lies, in [0, 1].
+// d2 = squared centre distance (0 gives 1/2: coincident centres have zero-length arms anyway).
+inline double ContactFraction(double r_lo, double r_hi, double d2) {
+  if (!(d2 > 0.0)) return 0.5;
+  // Equal radii (lattices, monodisperse DEM): both rules give 0.5 + (+0)/(...) = 0.5 exactly, so
+  // the division, most of the work per contact there, is skipped. A branch that goes one way for
+  // a whole monodisperse or polydisperse packing.
+  if (r_lo == r_hi) return 0.5;
+  return ContactFractionOfEitherRule(r_lo, r_hi, d2);
+}
+
+// ContactFraction without a branch, for `omp simd` loops: a vector of contacts takes one square
+// root and one division per lane. The same bits: with equal radii the rule gives
+// 0.5 + (+0) / (positive) = 0.5, and coincident centres (d2 = 0, a division by zero there)
+// select 0.5 after the fact.
 inline double ContactFractionNoBranch(double r_lo, double r_hi, double d2) {
-  const double sum = r_lo + r_hi;
-  const bool overlap = d2 < sum * sum;
-  const double numerator = overlap ? r_lo * r_lo - r_hi * r_hi : r_lo - r_hi;
-  const double denominator = 2.0 * (overlap ? d2 : std::sqrt(d2));
-  double f = 0.5 + numerator / denominator;
-  f = f < 0.0 ? 0.0 : f;
-  f = 1.0 < f ? 1.0 : f;
+  const double f = ContactFractionOfEitherRule(r_lo, r_hi, d2);
   return d2 > 0.0 ? f : 0.5;
 }
 
