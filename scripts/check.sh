@@ -18,15 +18,14 @@ stage_done() { echo "== $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS;
 # under ASan reports std::regex's std::function members as maybe-uninitialized). The system gRPC
 # and protobuf are not instrumented: ASan still checks our code around them, and the TSan tests
 # use no gRPC at all.
-# Unity batches (CMake's CMAKE_UNITY_BUILD, 8 files a batch): a test file and a core or service
-# file spend most of their compile time in the same headers (GoogleTest, gRPC, protobuf, Eigen),
-# which a batch parses once; the ASan build took 1,063-1,142 s of the CI's 48 minutes without
-# them. Only here, where warnings are not errors: GCC 12 at -O3 reports false positives in larger
-# batches (-Wstringop-overflow in std::string), so the Release build below, the warnings gate,
-# keeps one file a unit. It also keeps every file's own names apart: a name two files both
-# define at file scope stops this build.
-sanitizer_flags=(-G Ninja -DCMAKE_BUILD_TYPE=None -DSEEP_BUILD_BENCH=OFF -DSEEP_WERROR=OFF
-                 -DCMAKE_UNITY_BUILD=ON)
+# Unity batches (CMake's CMAKE_UNITY_BUILD, 8 files a batch) in every build here: a test file and
+# a core or service file spend most of their compile time in the same headers (GoogleTest, gRPC,
+# protobuf, Eigen), which a batch parses once; the ASan build took 1,063-1,142 s without them,
+# the Release build 1,205 s against 773 s with them (same slow machine, session 26). A batch
+# keeps every file's own names apart: a name two files both define at file scope stops the build.
+# The benches (bench/CMakeLists.txt) and the generated protobuf code stay one file a unit.
+unity=(-G Ninja -DCMAKE_UNITY_BUILD=ON)
+sanitizer_flags=("${unity[@]}" -DCMAKE_BUILD_TYPE=None -DSEEP_BUILD_BENCH=OFF -DSEEP_WERROR=OFF)
 
 echo "== AddressSanitizer (+ UBSan on the core) build of the core, service and client tests"
 cmake -S . -B build/asan "${sanitizer_flags[@]}" -DSEEP_SANITIZE=ON \
@@ -53,7 +52,7 @@ TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
 stage_done "TSan build and tests"
 
 echo "== Release build and the whole test suite"
-cmake -S . -B build/check -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEEP_WERROR=ON >/dev/null
+cmake -S . -B build/check "${unity[@]}" -DCMAKE_BUILD_TYPE=Release -DSEEP_WERROR=ON >/dev/null
 cmake --build build/check -j"$jobs"
 ctest --test-dir build/check --output-on-failure -j"$jobs"
 stage_done "Release build and suite"
