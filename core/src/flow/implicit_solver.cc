@@ -55,7 +55,16 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
       network.coefficient_version() == coefficient_stamp_) {
     return Status::Ok();
   }
-  SEEP_RETURN_IF_ERROR(network.Validate());
+  // A new topology is validated whole; a coefficient edit on a known one (the coupled loop's, at
+  // every flow update) re-checks the values only, as the explicit solver does: the same values
+  // are checked either way (Validate ends with ValidateCoefficients).
+  const bool known_topology = network.topology_version() == topology_stamp_;
+  // Until the refresh succeeds the stamps are 0 (never issued): a refresh refused half-way (the
+  // storage capacities check each domain as they overwrite it) leaves caches that no network
+  // is trusted with, not even a copy taken before the edit.
+  topology_stamp_ = 0;
+  coefficient_stamp_ = 0;
+  SEEP_RETURN_IF_ERROR(known_topology ? network.ValidateCoefficients() : network.Validate());
   SEEP_RETURN_IF_ERROR(
       ComputeStorageCapacities(network, options_.storage, options_.bulk_modulus, &capacity_));
   SEEP_ASSIGN_OR_RETURN(limit_, ComputeCriticalTimeStep(network, options_.bulk_modulus,
@@ -67,7 +76,7 @@ Status ImplicitSolver::Prepare(const FlowNetwork& network) {
   // that join them to known domains: functions of the topology, found again only when it
   // changes (a coupled step changes the coefficients at every flow update).
   const auto domain_of = system_->domain_of_unknown();
-  if (network.topology_version() != topology_stamp_) {
+  if (!known_topology) {
     const NetworkComponents components = FindNetworkComponents(network);
     num_components_ = static_cast<std::size_t>(components.num_components);
     component_of_unknown_.resize(domain_of.size());
@@ -134,13 +143,19 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
     return drive + (unknown == pa[p] ? -offset[p] : offset[p]);
   };
 
+  // dV/dt per unknown, divided once: the budget correction below subtracts the same quotients.
+  std::vector<double>& pore_growth_rate = pore_growth_rate_;
+  pore_growth_rate.assign(volume_change.empty() ? 0 : nu, 0.0);
+  for (std::size_t u = 0; u < pore_growth_rate.size(); ++u) {
+    pore_growth_rate[u] = volume_change[domain_of[u]] / dt;
+  }
+  const bool growth = !pore_growth_rate.empty();
   // b = (F(P^n) + Q_src - dV/dt) / theta, F accumulated pipe by pipe in pipe order.
   Eigen::VectorXd& rhs = rhs_;
   rhs.resize(static_cast<Eigen::Index>(nu));
   for (std::size_t u = 0; u < nu; ++u) {
-    const std::int32_t d = domain_of[u];
-    double r = q_src[d];
-    if (!volume_change.empty()) r -= volume_change[d] / dt;
+    double r = q_src[domain_of[u]];
+    if (growth) r -= pore_growth_rate[u];
     rhs[static_cast<Eigen::Index>(u)] = r;
   }
   for (std::size_t p = 0; p < c.size(); ++p) {
@@ -170,7 +185,7 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
   for (std::size_t u = 0; u < nu; ++u) {
     const std::int32_t d = domain_of[u];
     double r = q_src[d] - capacity_[d] * x[static_cast<Eigen::Index>(u)] / dt;
-    if (!volume_change.empty()) r -= volume_change[d] / dt;
+    if (growth) r -= pore_growth_rate[u];
     residual[component_of_unknown_[u]] += r;
   }
   for (const std::int32_t p : boundary_pipes_) {
@@ -181,9 +196,10 @@ Result<FlowStepReport> ImplicitSolver::Step(FlowNetwork& network, double dt,
     residual[k] += c[p] * boundary_drive(p, known, domain_of[u], theta * x[u]);
     denominator[k] += theta * c[p];
   }
+  // alpha_c once per component (the same quotient for each of its unknowns).
+  for (std::size_t k = 0; k < nc; ++k) residual[k] /= denominator[k];
   for (std::size_t u = 0; u < nu; ++u) {
-    const std::int32_t k = component_of_unknown_[u];
-    x[static_cast<Eigen::Index>(u)] += residual[k] / denominator[k];
+    x[static_cast<Eigen::Index>(u)] += residual[component_of_unknown_[u]];
   }
 
   FlowStepReport report;

@@ -184,6 +184,7 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(const c
   std::vector<int> lpos(static_cast<std::size_t>(nsuper), 0);
   std::vector<int> row_in_super(static_cast<std::size_t>(n), -1);  // CHOLMOD's Map
   plan.supernodes_.reserve(static_cast<std::size_t>(nsuper));
+  std::vector<int> parent(static_cast<std::size_t>(nsuper), -1);
   for (int s = 0; s < nsuper; ++s) {
     const int k1 = super[s];
     const int k2 = super[s + 1];
@@ -228,9 +229,10 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(const c
     }
     if (nsrow > nscol) {
       lpos[s] = nscol;
-      const int parent = super_of_column[ls[psi + nscol]];
-      next[s] = head[parent];
-      head[parent] = s;
+      parent[s] = super_of_column[ls[psi + nscol]];
+      if (parent[s] <= s) return std::nullopt;  // not CHOLMOD's order: its own factorization
+      next[s] = head[parent[s]];
+      head[parent[s]] = s;
     }
     head[s] = -1;
     plan.supernodes_.push_back({.psx = psx,
@@ -238,8 +240,60 @@ std::optional<SupernodalRefactorization> SupernodalRefactorization::Plan(const c
                                 .nscol = nscol,
                                 .updates_end = static_cast<int>(plan.updates_.size())});
   }
+  if (plan.own_kernels_) plan.ScheduleBackSubstitution(parent);
   return plan;
 }
+
+void SupernodalRefactorization::ScheduleBackSubstitution(const std::vector<int>& parent) {
+  const auto nsuper = static_cast<int>(supernodes_.size());
+  // Each supernode's chain length (its columns' terms) and, below it in the tree, the longest
+  // path of such lengths: a group takes the ready supernodes with the longest paths first.
+  std::vector<std::int64_t> own(static_cast<std::size_t>(nsuper), 0);
+  std::vector<std::int64_t> path(static_cast<std::size_t>(nsuper), 0);
+  std::vector<std::vector<int>> children(static_cast<std::size_t>(nsuper));
+  for (int s = 0; s < nsuper; ++s) {  // children before parents (supernodes are postordered)
+    const Supernode& sn = supernodes_[s];
+    for (int j = 0; j < sn.nscol; ++j) own[s] += sn.nsrow - j;
+    path[s] += own[s];
+    if (parent[s] >= 0) {
+      path[parent[s]] = std::max(path[parent[s]], path[s]);
+      children[parent[s]].push_back(s);
+    }
+  }
+  const auto before = [&](int a, int b) { return path[a] != path[b] ? path[a] > path[b] : a > b; };
+  std::vector<int> ready;
+  for (int s = 0; s < nsuper; ++s) {
+    if (parent[s] < 0) ready.push_back(s);
+  }
+  back_order_.clear();
+  back_group_.assign(1, 0);
+  while (!ready.empty()) {
+    std::sort(ready.begin(), ready.end(), before);
+    const auto take = std::min<std::size_t>(ready.size(), kBackGroup);
+    const std::vector<int> group(ready.begin(), ready.begin() + static_cast<std::ptrdiff_t>(take));
+    ready.erase(ready.begin(), ready.begin() + static_cast<std::ptrdiff_t>(take));
+    for (const int s : group) {
+      back_order_.push_back(s);
+      ready.insert(ready.end(), children[s].begin(), children[s].end());
+    }
+    back_group_.push_back(static_cast<int>(back_order_.size()));
+  }
+}
+
+namespace {
+
+// kCount independent chains of the back substitution side by side, each over its next `terms`
+// terms: t[c] minus l[c][i] y[rows[c][i]] for i ascending, the same operations in the same order
+// as one chain after another.
+template <int kCount>
+inline void RunChains(const double* const* l, const int* const* rows, int terms, const double* y,
+                      double* t) {
+  for (int i = 0; i < terms; ++i) {
+    for (int c = 0; c < kCount; ++c) t[c] -= l[c][i] * y[rows[c][i]];
+  }
+}
+
+}  // namespace
 
 bool SupernodalRefactorization::Refactorize(const SparseMatrix& lower, cholmod_factor& L) {
   // Not the planned pattern (a caller's contract broken): CHOLMOD itself, which plans again.
@@ -349,16 +403,90 @@ bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::Vect
       return true;
     });
   }
-  // L' z = y': supernodes and columns backwards, each column's dot product with the rows below.
-  for (int s = nsuper - 1; s >= 0; --s) {
-    const Supernode& sn = supernodes_[s];
-    const int k1 = super[s];
-    const int* rows = ls + lpi[s];
-    for (int j = sn.nscol - 1; j >= 0; --j) {
-      const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
-      double t = y[k1 + j];
-      for (int i = j + 1; i < sn.nsrow; ++i) t -= lj[i] * y[rows[i]];
-      y[k1 + j] = t / lj[j];
+  // L' z = y': each supernode's columns backwards, each column's dot product with the rows below:
+  // y(k1 + j) minus L(r, k1 + j) y(r) for its rows r below the diagonal in turn, then divided by
+  // the diagonal. A column's chain waits on each subtraction, and its first terms on the
+  // supernode's later columns, but not on another supernode of its group (none is an ancestor of
+  // another, and their ancestors are done): the group's current columns run side by side, their
+  // common length of terms at a time, each in its own order, so the bits are the one-by-one
+  // loop's.
+  for (std::size_t g = 0; g + 1 < back_group_.size(); ++g) {
+    int column[kBackGroup];  // each member's current column, from its last down to 0
+    const int* members = back_order_.data() + back_group_[g];
+    const int count = back_group_[g + 1] - back_group_[g];
+    for (int m = 0; m < count; ++m) column[m] = supernodes_[members[m]].nscol - 1;
+    while (true) {
+      // The members with a column left, and where each of their chains stands.
+      int live[kBackGroup];
+      const double* l[kBackGroup];
+      const int* rows[kBackGroup];
+      int left[kBackGroup];
+      double t[kBackGroup];
+      int live_count = 0;
+      for (int m = 0; m < count; ++m) {
+        const int j = column[m];
+        if (j < 0) continue;
+        const int s = members[m];
+        const Supernode& sn = supernodes_[s];
+        const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
+        const int c = live_count++;
+        live[c] = m;
+        l[c] = lj + j + 1;
+        rows[c] = ls + lpi[s] + j + 1;
+        left[c] = sn.nsrow - j - 1;
+        t[c] = y[super[s] + j];
+      }
+      if (live_count == 0) break;
+      // The chains together while all have terms left, then those that still have some.
+      int active[kBackGroup];
+      for (int c = 0; c < live_count; ++c) active[c] = c;
+      int na = live_count;
+      while (na > 0) {
+        int terms = left[active[0]];
+        for (int a = 1; a < na; ++a) terms = std::min(terms, left[active[a]]);
+        const double* la[kBackGroup];
+        const int* ra[kBackGroup];
+        double ta[kBackGroup];
+        for (int a = 0; a < na; ++a) {
+          la[a] = l[active[a]];
+          ra[a] = rows[active[a]];
+          ta[a] = t[active[a]];
+        }
+        static_assert(kBackGroup == 4, "one case per group size");
+        switch (na) {
+          case 1:
+            RunChains<1>(la, ra, terms, y, ta);
+            break;
+          case 2:
+            RunChains<2>(la, ra, terms, y, ta);
+            break;
+          case 3:
+            RunChains<3>(la, ra, terms, y, ta);
+            break;
+          default:
+            RunChains<4>(la, ra, terms, y, ta);
+            break;
+        }
+        int kept = 0;
+        for (int a = 0; a < na; ++a) {
+          const int c = active[a];
+          t[c] = ta[a];
+          l[c] += terms;
+          rows[c] += terms;
+          left[c] -= terms;
+          if (left[c] > 0) active[kept++] = c;
+        }
+        na = kept;
+      }
+      for (int c = 0; c < live_count; ++c) {
+        const int m = live[c];
+        const int s = members[m];
+        const int j = column[m];
+        const double* lj =
+            lx + supernodes_[s].psx + static_cast<std::ptrdiff_t>(supernodes_[s].nsrow) * j;
+        y[super[s] + j] = t[c] / lj[j];
+        --column[m];
+      }
     }
   }
   x.resize(n);

@@ -92,8 +92,20 @@ class SupernodalRefactorization {
   // a pivot is not positive.
   bool FactorSupernode(const Supernode& s, double* lx) const;
 
+  // Groups the supernodes for Solve's back substitution (back_order_, back_group_); `parent` is
+  // each supernode's parent in the supernodal tree, -1 for a root.
+  void ScheduleBackSubstitution(const std::vector<int>& parent);
+
   bool own_kernels_ = false;
   mutable std::vector<double> work_;  // Solve's permuted right-hand side, solved in place
+  // The back substitution's order: groups of up to kBackGroup supernodes none of which is
+  // another's ancestor, each group after the groups of its members' parents; back_group_[g] ..
+  // back_group_[g + 1] index back_order_. A column's chain of subtractions waits on each one
+  // before it, and on its supernode's later columns; the chains of a group's supernodes do not
+  // wait on each other, so Solve runs them side by side (see Solve).
+  static constexpr int kBackGroup = 4;
+  std::vector<int> back_order_;
+  std::vector<int> back_group_;
 };
 
 }  // namespace seep::core::flow_internal

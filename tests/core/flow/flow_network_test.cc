@@ -940,6 +940,46 @@ TEST(FlowNetwork, ExplicitRefusedEditLeavesNoHalfRefreshedCache) {
   }
 }
 
+// The implicit solver's counterpart: an edit refused while its caches were being refreshed (a
+// free domain's pore volume set to 0 passes the network's checks and fails only the storage
+// capacities, after those of the lower domains were overwritten) leaves nothing trusted behind. A
+// copy taken before the edit then steps to the bits of a fresh solver on another copy, and a long-
+// lived solver takes a later coefficient edit as a fresh one does.
+TEST(FlowNetwork, ImplicitRefusedEditLeavesNoHalfRefreshedCache) {
+  FlowNetwork net = FixedAndSourceNetwork(30, 20, 5, 20);
+  const double dt =
+      50.0 * ComputeCriticalTimeStep(net, ImplicitSolverOptions{}.bulk_modulus, {})->dt_crit;
+  auto solver = ImplicitSolver::Create({});
+  ASSERT_TRUE(solver.ok());
+  ASSERT_TRUE(solver->Step(net, dt).ok());
+  FlowNetwork backup = net;
+  net.mutable_pore_volume()[25] = 0.0;
+  const auto refused = solver->Step(net, dt);
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(refused.status().message().rfind("flow.network.pore_volume[25]: ", 0), 0u)
+      << refused.status().message();
+  auto fresh = ImplicitSolver::Create({});
+  ASSERT_TRUE(fresh.ok());
+  FlowNetwork twin = backup;
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(solver->Step(backup, dt).ok());
+    ASSERT_TRUE(fresh->Step(twin, dt).ok());
+  }
+  EXPECT_EQ(Pressures(backup), Pressures(twin));
+
+  // A known topology, new volumes and conductances: the same bits as a solver created afresh.
+  for (double& v : backup.mutable_pore_volume()) v *= 1.1;
+  for (double& c : backup.mutable_pipe_conductance()) c *= 0.9;
+  FlowNetwork edited_twin = backup;
+  auto another = ImplicitSolver::Create({});
+  ASSERT_TRUE(another.ok());
+  ASSERT_TRUE(solver->Step(backup, dt).ok());
+  ASSERT_TRUE(another->Step(edited_twin, dt).ok());
+  ASSERT_TRUE(fresh->Step(twin, dt).ok());
+  EXPECT_EQ(Pressures(backup), Pressures(edited_twin));
+  EXPECT_NE(Pressures(backup), Pressures(twin));  // the edit mattered
+}
+
 // After coefficient edits the solver's cached limit is ComputeCriticalTimeStep's, field by field
 // and to the bit, so the governor refuses exactly the steps the documented formula forbids. On a
 // square lattice with a Dirichlet left column every interior domain ties (same V_s, four equal

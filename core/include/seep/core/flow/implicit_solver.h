@@ -117,6 +117,7 @@ class ImplicitSolver {
   CriticalTimeStepScratch limit_scratch_;
   Eigen::VectorXd rhs_, increment_;             // b and the solution x = P^{n+1} - P^n per unknown
   std::vector<double> residual_, denominator_;  // per component
+  std::vector<double> pore_growth_rate_;        // dV / dt per unknown (empty without dV)
 };
 
 }  // namespace seep::core
