@@ -26,7 +26,8 @@ namespace {
 
 using nlohmann::json;
 
-const std::string kExample = std::string(SEEP_EXAMPLES_DIR) + "/calibration_sweep.textproto";
+const std::string kCalibrationExample =
+    std::string(SEEP_EXAMPLES_DIR) + "/calibration_sweep.textproto";
 const std::vector<double> kTargets = {1e-14, 3e-14, 1e-13, 3e-13, 1e-12};
 // The example's tolerance on |k - k_target| / k_target.
 constexpr double kTolerance = 1e-6;
@@ -67,7 +68,7 @@ class CalibrationE2e : public SeepdFixture {
 
   // Runs the example sweep to SUCCEEDED; returns its job id.
   std::string CalibrateExample() {
-    const CommandResult run = Seep({"calibrate", kExample, "--watch", "--tag", "e2e"});
+    const CommandResult run = Seep({"calibrate", kCalibrationExample, "--watch", "--tag", "e2e"});
     EXPECT_EQ(run.exit_code, 0) << run.output;
     EXPECT_NE(run.output.find("SUCCEEDED"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("kind      CALIBRATION"), std::string::npos) << run.output;
@@ -187,7 +188,7 @@ TEST_F(CalibrationE2e, SweepIsStoredAndQueriedBackThroughTheCli) {
 TEST_F(CalibrationE2e, BadCalibrationIsRejectedNamingTheFieldAndLeavesNoJob) {
   const std::string bad = (dir_ / "bad.textproto").string();
   {
-    std::ifstream in(kExample);
+    std::ifstream in(kCalibrationExample);
     std::stringstream text;
     text << in.rdbuf();
     std::ofstream out(bad);

@@ -24,11 +24,6 @@
 namespace seep::testing {
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
-}
-
 v1::Scene Parse(const std::string& text) {
   v1::Scene scene;
   EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text, &scene)) << text;
@@ -60,7 +55,7 @@ v1::Scene FrozenScene(int index, v1::SolverKind solver, const std::string& packi
 // servo walls, re-detection; its checkpoints carry the whole DEM state.
 v1::Scene MovingScene(int index, int columns, int rows, double end_time_s) {
   v1::Scene scene =
-      Parse(ReadText(std::string(SEEP_EXAMPLES_DIR) + "/hydraulic_fracturing.textproto"));
+      Parse(ReadFile(std::string(SEEP_EXAMPLES_DIR) + "/hydraulic_fracturing.textproto"));
   scene.set_name(fmt::format("chaos-moving-{}", index));
   scene.mutable_packing()->mutable_lattice()->set_columns(columns);
   scene.mutable_packing()->mutable_lattice()->set_rows(rows);
@@ -177,7 +172,7 @@ TEST_F(Chaos, TwentyTwoJobsSurviveSeededSigkillsBitIdentical) {
   }
   std::printf("chaos: %d kills, %d at checkpoint-file, %d at final-state (seed %u)\n", kills,
               crash_points_hit["checkpoint-file"], crash_points_hit["final-state"], seed);
-  const std::string log = ReadText(dir_ / "chaos.out");
+  const std::string log = ReadFile(dir_ / "chaos.out");
   EXPECT_NE(log.find("resumed from checkpoint"), std::string::npos);
 }
 

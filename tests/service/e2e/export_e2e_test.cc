@@ -26,23 +26,14 @@ namespace {
 
 using nlohmann::json;
 
-const std::string kExample = std::string(SEEP_EXAMPLES_DIR) + "/transient_1d.textproto";
+const std::string kTransientExample = std::string(SEEP_EXAMPLES_DIR) + "/transient_1d.textproto";
 constexpr std::size_t kParticles = 164;
 constexpr std::size_t kDomains = 120;
 constexpr std::size_t kPipes = 203;
 // Debian's interpreter, where python3-vtk9 installs (a python3 earlier on PATH may lack it).
-const char* const kPython = "/usr/bin/python3";
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // CSV rows as maps keyed by the header.
 std::vector<std::map<std::string, double>> ReadCsv(const std::filesystem::path& path) {
-  std::istringstream in(ReadAll(path));
+  std::istringstream in(ReadFile(path));
   std::string line;
   std::vector<std::string> header;
   std::vector<std::map<std::string, double>> rows;
@@ -100,7 +91,7 @@ class ExportE2e : public SeepdFixture {
   }
 
   std::string RunExample() {
-    const CommandResult run = Seep({"submit", kExample, "--watch"});
+    const CommandResult run = Seep({"submit", kTransientExample, "--watch"});
     EXPECT_EQ(run.exit_code, 0) << run.output;
     std::smatch m;
     if (std::regex_search(run.output, m, std::regex("submitted job (j-[0-9a-f]+)"))) return m[1];
@@ -226,7 +217,7 @@ TEST_F(ExportE2e, PlotWritesParseableSvgWithTheAnalyticCurve) {
 // With the one worker busy on a long run, a queued job has no checkpoint: FAILED_PRECONDITION (9)
 // saying so, for export and plot alike.
 TEST_F(ExportE2e, AJobWithoutCheckpointIsAFailedPrecondition) {
-  std::string scene = ReadAll(kExample);
+  std::string scene = ReadFile(kTransientExample);
   scene = std::regex_replace(scene, std::regex("end_time_s: 3.1484e-3"), "end_time_s: 30");
   const std::filesystem::path long_scene = dir_ / "long.textproto";
   std::ofstream(long_scene) << scene;
@@ -235,7 +226,7 @@ TEST_F(ExportE2e, AJobWithoutCheckpointIsAFailedPrecondition) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex("submitted job (j-[0-9a-f]+)")));
   const std::string long_id = m[1];
-  r = Seep({"submit", kExample, "--name", "queued"});
+  r = Seep({"submit", kTransientExample, "--name", "queued"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex("submitted job (j-[0-9a-f]+)")));
   const std::string queued_id = m[1];

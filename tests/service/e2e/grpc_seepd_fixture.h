@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "file_text.h"
 #include "process.h"
 #include "seep/v1/job_service.grpc.pb.h"
 
@@ -39,11 +40,6 @@ inline v1::Scene LatticeScene(const std::string& name, double end_time_s) {
   scene.set_name(name);
   scene.mutable_solver()->set_end_time_s(end_time_s);
   return scene;
-}
-
-inline std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
 }
 
 // How many times `what` occurs in `text`.

@@ -12,11 +12,6 @@
 namespace seep::testing {
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
-}
-
 // The value of one sample line ("name{labels} value"); -1 when the line is missing.
 double Sample(const std::string& text, const std::string& series) {
   const std::size_t at = text.find("\n" + series + " ");
@@ -32,7 +27,7 @@ class MetricsEndpointTest : public GrpcSeepdTest {
   int MetricsPort(const std::string& data) {
     const std::regex logged("metrics for Prometheus on http://127\\.0\\.0\\.1:(\\d+)/metrics");
     std::smatch match;
-    const std::string log = ReadText(dir_ / (data + ".out"));
+    const std::string log = ReadFile(dir_ / (data + ".out"));
     if (!std::regex_search(log, match, logged)) return -1;
     return std::stoi(match[1].str());
   }
@@ -51,7 +46,7 @@ class MetricsEndpointTest : public GrpcSeepdTest {
 TEST_F(MetricsEndpointTest, CountersMoveWhenAJobRuns) {
   Start("metrics", {"--metrics-listen", "127.0.0.1:0", "--checkpoint-every-steps", "200"});
   const int port = MetricsPort("metrics");
-  ASSERT_GT(port, 0) << ReadText(dir_ / "metrics.out");
+  ASSERT_GT(port, 0) << ReadFile(dir_ / "metrics.out");
 
   int status = 0;
   const std::string before = Scrape(port, "/metrics", &status);

@@ -29,7 +29,6 @@ namespace seep::testing {
 namespace {
 
 // Debian's interpreter (a python3 earlier on PATH is not needed: only the standard library).
-const char* const kPython = "/usr/bin/python3";
 
 // Prints what the picture holds, one "key value..." line each.
 const char* const kPictureCheck = R"(
@@ -53,13 +52,6 @@ for name in ('bar-min', 'bar-max'):
     for t in of_class(name):
         print(name, t.text)
 )";
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // What kPictureCheck printed.
 struct Picture {
@@ -105,7 +97,7 @@ Picture ReadPicture(const std::string& svg_path) {
 
 // One column of a CSV file with a header.
 std::vector<double> CsvColumn(const std::filesystem::path& path, const std::string& name) {
-  std::istringstream in(ReadAll(path));
+  std::istringstream in(ReadFile(path));
   std::string line;
   std::getline(in, line);
   std::vector<std::string> header;
@@ -141,7 +133,7 @@ class ParticlePlotE2e : public SeepdFixture {
   // that reported only the bonds still in the table drew no broken bond at the end of this run,
   // though 28 broke). In seconds.
   std::string RunSmallFracture() {
-    std::string scene = ReadAll(Example("hydraulic_fracturing.textproto"));
+    std::string scene = ReadFile(Example("hydraulic_fracturing.textproto"));
     scene = std::regex_replace(scene, std::regex("columns: 24 rows: 28"), "columns: 16 rows: 18");
     scene = std::regex_replace(scene, std::regex("end_time_s: 0.03"), "end_time_s: 0.06");
     scene = std::regex_replace(scene, std::regex("name: \"hydraulic-fracturing\""),

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "file_text.h"
 #include "process.h"
 
 namespace seep::testing {
