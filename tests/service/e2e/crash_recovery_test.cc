@@ -78,7 +78,8 @@ const char* const kScenes[] = {
     )pb",
 };
 
-v1::Scene ParseScene(std::string text) {
+// The scene of `text` with its end-time placeholders (SEEP_*_END) filled in.
+v1::Scene SceneWithEndTimes(std::string text) {
   text = std::regex_replace(text, std::regex("SEEP_EXPLICIT_END"), "4e-2");
   text = std::regex_replace(text, std::regex("SEEP_RANDOM_END"), "6e-2");
   text = std::regex_replace(text, std::regex("SEEP_IMPLICIT_END"), "1e-3");
@@ -139,8 +140,8 @@ class CrashRecovery : public GrpcSeepdTest {
 // The hydraulic-fracturing example cut short after its breakdown: moving particles, bonds
 // breaking, domains re-detected; its checkpoints carry the whole DEM state.
 v1::Scene CoupledScene() {
-  v1::Scene scene =
-      ParseScene(ReadFile(std::string(SEEP_EXAMPLES_DIR) + "/hydraulic_fracturing.textproto"));
+  v1::Scene scene = SceneWithEndTimes(
+      ReadFile(std::string(SEEP_EXAMPLES_DIR) + "/hydraulic_fracturing.textproto"));
   scene.set_name("coupled-hydrofrac");
   scene.mutable_solver()->set_end_time_s(0.026);
   return scene;
@@ -148,7 +149,7 @@ v1::Scene CoupledScene() {
 
 TEST_F(CrashRecovery, SigkillAtRandomPointsEndsBitIdenticalToAnUninterruptedRun) {
   std::vector<v1::Scene> scenes;
-  for (const char* text : kScenes) scenes.push_back(ParseScene(text));
+  for (const char* text : kScenes) scenes.push_back(SceneWithEndTimes(text));
   scenes.push_back(CoupledScene());
   const std::vector<std::string> expected = ReferenceHashes(scenes);
   ASSERT_FALSE(HasFailure());
@@ -181,7 +182,7 @@ TEST_F(CrashRecovery, SigkillAtRandomPointsEndsBitIdenticalToAnUninterruptedRun)
 }
 
 TEST_F(CrashRecovery, TruncatedThenCorruptedNewestCheckpointFallsBackToThePreviousOne) {
-  const v1::Scene scene = ParseScene(kScenes[1]);
+  const v1::Scene scene = SceneWithEndTimes(kScenes[1]);
   const std::string expected = ReferenceHashes({scene})[0];
   ASSERT_FALSE(HasFailure());
 
@@ -243,7 +244,7 @@ TEST_F(CrashRecovery, TruncatedThenCorruptedNewestCheckpointFallsBackToThePrevio
 TEST_F(CrashRecovery, SigtermCheckpointsAndACancelledJobResumesWhereItStopped) {
   // Ten times the shared lattice run (about 3 s here): the SIGTERM 400 ms in must find it
   // running even on a machine several times faster than this one.
-  v1::Scene scene = ParseScene(kScenes[0]);
+  v1::Scene scene = SceneWithEndTimes(kScenes[0]);
   scene.mutable_solver()->set_end_time_s(10 * scene.solver().end_time_s());
   const std::string expected = ReferenceHashes({scene})[0];
   ASSERT_FALSE(HasFailure());

@@ -43,7 +43,7 @@ constexpr const char* kQuickScene = R"pb(
   solver { kind: SOLVER_KIND_STEADY }
 )pb";
 
-v1::Scene ParseScene(const char* text) {
+v1::Scene SceneFromText(const char* text) {
   v1::Scene scene;
   EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(text, &scene));
   return scene;
@@ -119,7 +119,7 @@ class DurableJobs : public ::testing::Test {
 
   std::string SubmitOk(const char* scene_text) {
     v1::SubmitJobResponse response;
-    const grpc::Status status = Submit(ParseScene(scene_text), "", &response);
+    const grpc::Status status = Submit(SceneFromText(scene_text), "", &response);
     EXPECT_TRUE(status.ok()) << status.error_message();
     return response.job().id();
   }
@@ -329,7 +329,7 @@ TEST_F(DurableJobs, RpcStatusCodesForCancelResumeAndResult) {
 }
 
 TEST_F(DurableJobs, SameRequestIdTwiceGivesOneJob) {
-  const v1::Scene scene = ParseScene(kQuickScene);
+  const v1::Scene scene = SceneFromText(kQuickScene);
   v1::SubmitJobResponse first;
   v1::SubmitJobResponse second;
   ASSERT_TRUE(Submit(scene, "key-1", &first).ok());
@@ -375,7 +375,7 @@ TEST_F(DurableJobs, BadScenesAreRejectedNamingTheFieldAndNothingIsStored) {
   ASSERT_GE(CommonBadScenes().size(), 20u);
   for (const BadScene& bad : CommonBadScenes()) {
     SCOPED_TRACE(bad.name);
-    v1::Scene scene = ParseScene(kQuickScene);
+    v1::Scene scene = SceneFromText(kQuickScene);
     bad.mutate(scene);
     v1::SubmitJobResponse response;
     const grpc::Status status = Submit(scene, std::string("bad-") + bad.name, &response);
@@ -395,7 +395,7 @@ TEST_F(DurableJobs, BadScenesAreRejectedNamingTheFieldAndNothingIsStored) {
   EXPECT_TRUE(ListIds({}, "").empty());
   // The request ids were not consumed: a good scene under one of them is a new job.
   v1::SubmitJobResponse good;
-  ASSERT_TRUE(Submit(ParseScene(kQuickScene), "bad-NoPacking", &good).ok());
+  ASSERT_TRUE(Submit(SceneFromText(kQuickScene), "bad-NoPacking", &good).ok());
   EXPECT_TRUE(good.created());
   EXPECT_EQ(ListIds({}, ""), std::vector<std::string>{good.job().id()});
 }
