@@ -5,11 +5,11 @@
 // new values each time, and the same failure on a matrix that is not positive definite.
 #include "spd_factorization.h"
 
+#include <cholmod.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <Eigen/CholmodSupport>
-#include <cholmod.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
