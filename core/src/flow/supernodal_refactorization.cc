@@ -248,13 +248,11 @@ void SupernodalRefactorization::ScheduleBackSubstitution(const std::vector<int>&
   const auto nsuper = static_cast<int>(supernodes_.size());
   // Each supernode's chain length (its columns' terms) and, below it in the tree, the longest
   // path of such lengths: a group takes the ready supernodes with the longest paths first.
-  std::vector<std::int64_t> own(static_cast<std::size_t>(nsuper), 0);
   std::vector<std::int64_t> path(static_cast<std::size_t>(nsuper), 0);
   std::vector<std::vector<int>> children(static_cast<std::size_t>(nsuper));
   for (int s = 0; s < nsuper; ++s) {  // children before parents (supernodes are postordered)
     const Supernode& sn = supernodes_[s];
-    for (int j = 0; j < sn.nscol; ++j) own[s] += sn.nsrow - j;
-    path[s] += own[s];
+    for (int j = 0; j < sn.nscol; ++j) path[s] += sn.nsrow - j;
     if (parent[s] >= 0) {
       path[parent[s]] = std::max(path[parent[s]], path[s]);
       children[parent[s]].push_back(s);
@@ -416,77 +414,65 @@ bool SupernodalRefactorization::Solve(const cholmod_factor& L, const Eigen::Vect
     const int count = back_group_[g + 1] - back_group_[g];
     for (int m = 0; m < count; ++m) column[m] = supernodes_[members[m]].nscol - 1;
     while (true) {
-      // The members with a column left, and where each of their chains stands.
-      int live[kBackGroup];
+      // One chain per member with a column left: where it stands, its terms left, its sum, and
+      // its column's diagonal and place in y.
       const double* l[kBackGroup];
       const int* rows[kBackGroup];
       int left[kBackGroup];
       double t[kBackGroup];
-      int live_count = 0;
+      const double* diagonal[kBackGroup];
+      int target[kBackGroup];
+      int chains = 0;
       for (int m = 0; m < count; ++m) {
-        const int j = column[m];
+        const int j = column[m]--;
         if (j < 0) continue;
         const int s = members[m];
         const Supernode& sn = supernodes_[s];
         const double* lj = lx + sn.psx + static_cast<std::ptrdiff_t>(sn.nsrow) * j;
-        const int c = live_count++;
-        live[c] = m;
-        l[c] = lj + j + 1;
-        rows[c] = ls + lpi[s] + j + 1;
-        left[c] = sn.nsrow - j - 1;
-        t[c] = y[super[s] + j];
+        l[chains] = lj + j + 1;
+        rows[chains] = ls + lpi[s] + j + 1;
+        left[chains] = sn.nsrow - j - 1;
+        t[chains] = y[super[s] + j];
+        diagonal[chains] = lj + j;
+        target[chains] = super[s] + j;
+        ++chains;
       }
-      if (live_count == 0) break;
-      // The chains together while all have terms left, then those that still have some.
-      int active[kBackGroup];
-      for (int c = 0; c < live_count; ++c) active[c] = c;
-      int na = live_count;
-      while (na > 0) {
-        int terms = left[active[0]];
-        for (int a = 1; a < na; ++a) terms = std::min(terms, left[active[a]]);
-        const double* la[kBackGroup];
-        const int* ra[kBackGroup];
-        double ta[kBackGroup];
-        for (int a = 0; a < na; ++a) {
-          la[a] = l[active[a]];
-          ra[a] = rows[active[a]];
-          ta[a] = t[active[a]];
-        }
+      if (chains == 0) break;
+      // The chains [0, active) together while all have terms left; a finished one is swapped
+      // behind them, so the others go on as a smaller group.
+      for (int active = chains; active > 0;) {
+        int terms = left[0];
+        for (int c = 1; c < active; ++c) terms = std::min(terms, left[c]);
         static_assert(kBackGroup == 4, "one case per group size");
-        switch (na) {
+        switch (active) {
           case 1:
-            RunChains<1>(la, ra, terms, y, ta);
+            RunChains<1>(l, rows, terms, y, t);
             break;
           case 2:
-            RunChains<2>(la, ra, terms, y, ta);
+            RunChains<2>(l, rows, terms, y, t);
             break;
           case 3:
-            RunChains<3>(la, ra, terms, y, ta);
+            RunChains<3>(l, rows, terms, y, t);
             break;
           default:
-            RunChains<4>(la, ra, terms, y, ta);
+            RunChains<4>(l, rows, terms, y, t);
             break;
         }
-        int kept = 0;
-        for (int a = 0; a < na; ++a) {
-          const int c = active[a];
-          t[c] = ta[a];
+        for (int c = active - 1; c >= 0; --c) {
           l[c] += terms;
           rows[c] += terms;
           left[c] -= terms;
-          if (left[c] > 0) active[kept++] = c;
+          if (left[c] > 0) continue;
+          --active;
+          std::swap(l[c], l[active]);
+          std::swap(rows[c], rows[active]);
+          std::swap(left[c], left[active]);
+          std::swap(t[c], t[active]);
+          std::swap(diagonal[c], diagonal[active]);
+          std::swap(target[c], target[active]);
         }
-        na = kept;
       }
-      for (int c = 0; c < live_count; ++c) {
-        const int m = live[c];
-        const int s = members[m];
-        const int j = column[m];
-        const double* lj =
-            lx + supernodes_[s].psx + static_cast<std::ptrdiff_t>(supernodes_[s].nsrow) * j;
-        y[super[s] + j] = t[c] / lj[j];
-        --column[m];
-      }
+      for (int c = 0; c < chains; ++c) y[target[c]] = t[c] / *diagonal[c];
     }
   }
   x.resize(n);
