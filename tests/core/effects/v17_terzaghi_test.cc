@@ -109,8 +109,9 @@ SceneSpec ColumnScene(double viscosity, double end_time_s) {
   s.solver.storage_factor = kStoragePorosity;
   s.solver.dt_factor = 1e6;  // the flow interval is then the DEM step
   s.solver.end_time_s = end_time_s;
-  // The fast factorization for a column this small (simplicial, linear_solver_kind.h): the test
-  // checks it against Terzaghi's solution; every other scene here keeps the default.
+  // AUTO: the test checks the size-chosen factorization against Terzaghi's solution (supernodal
+  // at this column's size since session 28, linear_solver_kind.h); every other scene here keeps
+  // the default.
   s.solver.linear_solver = LinearSolverKind::kAuto;
   s.effects = {Contacts(kCoupledDtSafety),
                Walls(),

@@ -521,8 +521,9 @@ TEST(FlowNetwork, AutoLinearSolverIsSimplicialBelowTheSwitchAndSupernodalFromIt)
     return Run{solver->linear_solver_in_use(),
                std::vector<double>(net.pressure().begin(), net.pressure().end())};
   };
-  // Below the switch: 299 unknowns of a random network.
-  FlowNetworkData small = testing::MakeRandomClosedData(300, 400, 7);
+  // Below the switch: kSupernodalMinUnknowns - 1 unknowns of a random network.
+  const int small_domains = static_cast<int>(kSupernodalMinUnknowns);
+  FlowNetworkData small = testing::MakeRandomClosedData(small_domains, 4 * small_domains / 3, 7);
   small.role[0] = DomainRole::kFixedPressure;
   const Run auto_small = run(testing::MakeOrDie(small), LinearSolverKind::kAuto);
   const Run simplicial = run(testing::MakeOrDie(small), LinearSolverKind::kEigenSimplicialLdlt);

@@ -9,11 +9,10 @@ namespace seep::core {
 enum class LinearSolverKind {
   // Eigen's SimplicialLDLT below kSupernodalMinUnknowns unknowns, CHOLMOD supernodal from there
   // on (a scene asks for it with solver.linear_solver AUTO; its default is kCholmodSupernodal),
-  // chosen at each symbolic analysis (a function of the system, so of the scene:
-  // runs stay deterministic). Below the switch CHOLMOD's supernodal numeric factorization costs
-  // 5-10x a simplicial one: it opens OpenMP regions and allocates per supernode, and a small
-  // network has hundreds of tiny supernodes (400 unknowns: 345 us against 32 us; 1e4: 10.1 ms
-  // against 5.8 ms; they meet near 4e4 on 2 cores; bench/flow prints both).
+  // chosen at each symbolic analysis (a function of the system, so of the scene: runs stay
+  // deterministic). Tiny systems only since session 28: with the replayed refactorization
+  // (supernodal_refactorization.h) the supernodal kind's step costs less than the simplicial
+  // one's from about 200 unknowns (seep_auto_crossing_bench).
   kAuto,
   // CHOLMOD supernodal LL^T through Eigen's CholmodSupport (AMD/METIS ordering). The fastest on
   // large 2D networks (bench/flow); deterministic for a fixed BLAS and thread count.
@@ -22,9 +21,13 @@ enum class LinearSolverKind {
   kEigenSimplicialLdlt,
 };
 
-// Where kAuto switches to CHOLMOD supernodal: below the crossing measured on 2 cores, since more
-// cores (threaded BLAS in the supernodes) favour the supernodal side.
-inline constexpr std::int64_t kSupernodalMinUnknowns = 20000;
+// Where kAuto switches to CHOLMOD supernodal, from seep_auto_crossing_bench (one refactorization
+// of new values and one solve, one thread, session 28): at 100 unknowns the two kinds cost the
+// same (0.83-1.04x), at about 200 the supernodal one is 1.07-1.12x faster, on square grids 1.3x
+// at 400 and 2.3-3.6x from 3,000 on, on a column 12 wide 1.1-1.7x, within noise at 90,000.
+// (Before the replay, CHOLMOD's own numeric factorization paid per supernode, and the switch
+// was 20,000.)
+inline constexpr std::int64_t kSupernodalMinUnknowns = 200;
 
 // The concrete kind a solver of that kind uses for a system of `unknowns` unknowns.
 LinearSolverKind ResolvedLinearSolverKind(LinearSolverKind kind, std::int64_t unknowns);
