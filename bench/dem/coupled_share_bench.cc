@@ -5,6 +5,7 @@
 // scenes do not offer).
 //
 // Usage: seep_coupled_share_bench path/to/settled_bed_9900.txt [steps=2000] [flow_every=1]
+//                                 [threads: 1 or 2 alone, e.g. for a profile of one of them]
 // Runs the bed twice through the scene API, 200 warm-up steps then `steps` timed steps each:
 //   mechanics  effects contacts, gravity, walls (bottom, left, right);
 //   coupled    the same plus flow (explicit, one flow update per DEM step, or per flow_every
@@ -182,19 +183,29 @@ Shares Measure(const Packing& bed, std::uint64_t steps, std::uint64_t flow_every
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s settled_bed_9900.txt [steps=2000] [flow_every=1]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s settled_bed_9900.txt [steps=2000] [flow_every=1] [threads]\n",
+                 argv[0]);
     return 2;
   }
   const std::uint64_t steps = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000;
   const std::uint64_t flow_every = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
+  const long only_threads = argc > 4 ? std::strtol(argv[4], nullptr, 10) : 0;
   if (steps < 1 || flow_every < 1 || flow_every > UINT32_MAX) {
     std::fprintf(stderr, "steps must be >= 1 and flow_every in [1, 2^32)\n");
+    return 2;
+  }
+  if (argc > 4 && only_threads != 1 && only_threads != 2) {
+    std::fprintf(stderr, "threads: 1 or 2 (got '%s')\n", argv[4]);
     return 2;
   }
   Result<Packing> bed = LoadPackingFile(argv[1]);
   if (!bed.ok()) {
     std::fprintf(stderr, "%s\n", bed.status().message().c_str());
     return 1;
+  }
+  if (only_threads != 0) {
+    Measure(*bed, steps, flow_every, static_cast<int>(only_threads));
+    return 0;
   }
   const Shares one = Measure(*bed, steps, flow_every, 1);
   const Shares two = Measure(*bed, steps, flow_every, 2);
