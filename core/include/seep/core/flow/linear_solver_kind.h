@@ -14,17 +14,20 @@ enum class LinearSolverKind {
   // (supernodal_refactorization.h) the supernodal kind's step costs less than the simplicial
   // one's from about 200 unknowns (seep_auto_crossing_bench).
   kAuto,
-  // CHOLMOD supernodal LL^T through Eigen's CholmodSupport (AMD/METIS ordering). The fastest on
-  // large 2D networks (bench/flow); deterministic for a fixed BLAS and thread count.
+  // CHOLMOD supernodal LL^T through Eigen's CholmodSupport (AMD/METIS ordering), refactorized by
+  // replaying a plan of the pattern (supernodal_refactorization.h): the faster kind from about
+  // 200 unknowns; its bits do not depend on the machine while its supernodes take the plan's own
+  // kernels (up to about 40,000 unknowns), else on the BLAS.
   kCholmodSupernodal,
   // Eigen::SimplicialLDLT with AMD ordering: no external library; fine below ~1e5 unknowns.
   kEigenSimplicialLdlt,
 };
 
 // Where kAuto switches to CHOLMOD supernodal, from seep_auto_crossing_bench (one refactorization
-// of new values and one solve, one thread, session 28): at 100 unknowns the two kinds cost the
-// same (0.83-1.04x), at about 200 the supernodal one is 1.07-1.12x faster, on square grids 1.3x
-// at 400 and 2.3-3.6x from 3,000 on, on a column 12 wide 1.1-1.7x, within noise at 90,000.
+// of new values and one solve, one thread, session 28, two runs): at 100 unknowns the two kinds
+// cost the same (0.78-1.10x), at about 200 the supernodal one is 1.07-1.34x faster; on square
+// grids 1.2-1.3x at 400 and 1.9-3.6x from 3,000 on, on a column 12 wide 1.2-1.3x (0.95-1.07x at
+// 90,000, within noise).
 // (Before the replay, CHOLMOD's own numeric factorization paid per supernode, and the switch
 // was 20,000.)
 inline constexpr std::int64_t kSupernodalMinUnknowns = 200;
