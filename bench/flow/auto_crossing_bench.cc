@@ -8,7 +8,7 @@
 //   seep_auto_crossing_bench [repeats 15]
 //
 // Systems: the tests' jittered-grid pressure system on square grids (wide networks: fill grows
-// like n log n) and on columns 12 disks wide (a consolidation column: narrow, little fill), from
+// like n log n) and on columns 12 unknowns wide (a consolidation column: narrow, little fill), from
 // 100 to 90,000 unknowns. Prints, per system, the best time of each kind and the ratio
 // simplicial / supernodal (above 1: the supernodal kind is the faster), and per shape at how many
 // sizes from the current switch on each kind was the faster (a column's two kinds come within
