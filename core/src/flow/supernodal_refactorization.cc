@@ -267,12 +267,11 @@ void SupernodalRefactorization::ScheduleBackSubstitution(const std::vector<int>&
   back_group_.assign(1, 0);
   while (!ready.empty()) {
     std::sort(ready.begin(), ready.end(), before);
-    const auto take = std::min<std::size_t>(ready.size(), kBackGroup);
-    const std::vector<int> group(ready.begin(), ready.begin() + static_cast<std::ptrdiff_t>(take));
-    ready.erase(ready.begin(), ready.begin() + static_cast<std::ptrdiff_t>(take));
-    for (const int s : group) {
-      back_order_.push_back(s);
-      ready.insert(ready.end(), children[s].begin(), children[s].end());
+    const auto take = std::min<std::ptrdiff_t>(std::ssize(ready), kBackGroup);
+    back_order_.insert(back_order_.end(), ready.begin(), ready.begin() + take);
+    ready.erase(ready.begin(), ready.begin() + take);
+    for (auto s = back_order_.end() - take; s != back_order_.end(); ++s) {
+      ready.insert(ready.end(), children[*s].begin(), children[*s].end());
     }
     back_group_.push_back(static_cast<int>(back_order_.size()));
   }

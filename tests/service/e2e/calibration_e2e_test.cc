@@ -187,13 +187,8 @@ TEST_F(CalibrationE2e, SweepIsStoredAndQueriedBackThroughTheCli) {
 
 TEST_F(CalibrationE2e, BadCalibrationIsRejectedNamingTheFieldAndLeavesNoJob) {
   const std::string bad = (dir_ / "bad.textproto").string();
-  {
-    std::ifstream in(kCalibrationExample);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::ofstream out(bad);
-    out << std::regex_replace(text.str(), std::regex("3e-13"), "-3e-13");
-  }
+  std::ofstream(bad) << std::regex_replace(ReadFile(kCalibrationExample), std::regex("3e-13"),
+                                           "-3e-13");
   const CommandResult run = Seep({"calibrate", bad});
   EXPECT_EQ(run.exit_code, 3) << run.output;
   EXPECT_NE(run.output.find("calibration.target_permeabilities_m2[3]: must be a finite number > 0"),

@@ -9,7 +9,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -17,6 +16,7 @@
 #include <thread>
 
 #include "bad_scenes.h"
+#include "file_text.h"
 #include "process.h"
 #include "seep/v1/job_service.grpc.pb.h"
 
@@ -81,9 +81,7 @@ class DurableJobs : public ::testing::Test {
                      std::chrono::seconds timeout = std::chrono::seconds(30)) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     for (;;) {
-      std::ifstream in(dir_ / (tag + ".out"));
-      const std::string output((std::istreambuf_iterator<char>(in)),
-                               std::istreambuf_iterator<char>());
+      const std::string output = ReadFile(dir_ / (tag + ".out"));
       if (output.find(text) != std::string::npos) return true;
       if (std::chrono::steady_clock::now() >= deadline) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -30,7 +30,6 @@ const std::string kTransientExample = std::string(SEEP_EXAMPLES_DIR) + "/transie
 constexpr std::size_t kParticles = 164;
 constexpr std::size_t kDomains = 120;
 constexpr std::size_t kPipes = 203;
-// Debian's interpreter, where python3-vtk9 installs (a python3 earlier on PATH may lack it).
 // CSV rows as maps keyed by the header.
 std::vector<std::map<std::string, double>> ReadCsv(const std::filesystem::path& path) {
   std::istringstream in(ReadFile(path));

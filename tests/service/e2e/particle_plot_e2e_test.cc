@@ -28,8 +28,6 @@
 namespace seep::testing {
 namespace {
 
-// Debian's interpreter (a python3 earlier on PATH is not needed: only the standard library).
-
 // Prints what the picture holds, one "key value..." line each.
 const char* const kPictureCheck = R"(
 import sys, xml.etree.ElementTree as ET

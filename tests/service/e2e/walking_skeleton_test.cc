@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
 
@@ -122,8 +121,7 @@ TEST(SeepdSignals, SigtermStopsSeepdWhenNoLibraryThreadTakesSignals) {
   ASSERT_GT(WaitForPortFile(port_file, std::chrono::seconds(30)), 0) << "see " << log;
   // 0 is a clean exit; 137 would be the SIGKILL that Stop sends after its timeout.
   EXPECT_EQ(server.Stop(SIGTERM, std::chrono::seconds(15)), 0) << "see " << log;
-  std::ifstream in(log);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = ReadFile(log);
   EXPECT_NE(text.find("signal 15 received: shutting down"), std::string::npos) << text;
   if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
 }
