@@ -14,11 +14,12 @@ examples' bits need (every coupled pass keeps its operations, see seep_example_s
 Usage: instruction_budget.py BENCH BED [--steps 300]
   BENCH  a Release build's bench/dem/seep_coupled_share_bench
   BED    ../shared/bench/settled_bed_9900.txt
-Takes about 20 s a 100 steps (valgrind runs the bench some 50x slower).
+Takes about 25 s at 300 steps (valgrind runs the bench some 50x slower).
 """
 import argparse
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -69,7 +70,7 @@ def main() -> None:
     if args.steps < 1:
         sys.exit("--steps: must be at least 1")
     for tool in ("valgrind", "callgrind_annotate"):
-        if subprocess.run(["which", tool], capture_output=True).returncode != 0:
+        if shutil.which(tool) is None:
             sys.exit(f"{tool} not found (Debian package valgrind)")
     with tempfile.TemporaryDirectory() as work:
         profile = os.path.join(work, "callgrind.out")
