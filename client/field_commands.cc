@@ -191,8 +191,13 @@ FieldCommands AddFieldCommands(CLI::App& app) {
       "VTK (.vtp/.vtu for ParaView) or CSV, and its time series as series.csv");
   c.export_cmd->add_option("job", e.job_id, "job id")->required();
   c.export_cmd->add_option("--out", e.out_dir, "directory to write into (created)")->required();
-  auto* step = c.export_cmd->add_option(
-      "--step", e.step, "the checkpoint at this step (default: the newest, a finished job's end)");
+  // A checkpoint's step is >= 1 (the API reads 0 as "the newest", so --step 0 would quietly
+  // export another state than the one asked for).
+  auto* step = c.export_cmd
+                   ->add_option("--step", e.step,
+                                "the checkpoint at this step, >= 1 (default: the newest, a "
+                                "finished job's end)")
+                   ->check(CLI::PositiveNumber);
   c.export_cmd->add_flag("--all-steps", e.all_steps, "every checkpoint the job keeps")
       ->excludes(step);
   c.export_cmd->add_option("--format", e.format, "vtk or csv")
@@ -214,8 +219,10 @@ FieldCommands AddFieldCommands(CLI::App& app) {
       ->add_option("--column", p.columns,
                    "series: a column to draw (repeatable; default: all but time_s)")
       ->allow_extra_args(false);  // one name per --column: a following job id stays positional
-  c.plot_cmd->add_option("--step", p.step,
-                         "profile, particles: the checkpoint at this step (default: newest)");
+  c.plot_cmd
+      ->add_option("--step", p.step,
+                   "profile, particles: the checkpoint at this step, >= 1 (default: newest)")
+      ->check(CLI::PositiveNumber);
   return c;
 }
 

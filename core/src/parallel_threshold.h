@@ -20,6 +20,11 @@ namespace seep::core::internal {
 // waits for a descheduled thread); the 10k-disk bench bed (about 25k pairs, 18k loop contacts)
 // still gains 1.5-2x.
 inline constexpr std::ptrdiff_t kMinParallelItems = 8192;
+// The threshold loops started from the calling thread use: kMinParallelItems, unless a test
+// lowered it (SetMinParallelItemsForThisThread, threads.h) so that small scenes take the team
+// paths too and a thread-count test over them checks those paths.
+inline thread_local std::ptrdiff_t tl_min_parallel_items = kMinParallelItems;
+inline std::ptrdiff_t MinParallelItems() { return tl_min_parallel_items; }
 
 // The calling thread's core threads (SetCoreThreadsForThisThread; OpenMP's nthreads setting, which
 // also takes OMP_NUM_THREADS): the size of its team (core_team.h).
@@ -27,7 +32,7 @@ inline int CoreThreads() { return omp_get_max_threads(); }
 
 // Whether a loop over `n` items goes to a team of the calling thread's core threads; when not,
 // it runs on the calling thread with no team at all.
-inline bool OnTeam(std::ptrdiff_t n) { return n >= kMinParallelItems && CoreThreads() > 1; }
+inline bool OnTeam(std::ptrdiff_t n) { return n >= MinParallelItems() && CoreThreads() > 1; }
 
 // Runs `range(begin, end)` over [0, n): once per team member on its share when OnTeam(n), else
 // once over [0, n) on the calling thread. `range` is a loop over its bounds, best a call of a

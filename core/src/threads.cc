@@ -5,9 +5,15 @@
 #include <algorithm>
 #include <thread>
 
+#include "parallel_threshold.h"
+
 namespace seep::core {
 
 void SetCoreThreadsForThisThread(int threads) { omp_set_num_threads(std::max(1, threads)); }
+
+void SetMinParallelItemsForThisThread(long items) {
+  internal::tl_min_parallel_items = std::max<std::ptrdiff_t>(1, items);
+}
 
 int CoreThreadsPerJob(int concurrent_jobs) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -101,6 +101,7 @@ void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
   }
   out->set_max_flow_sub_steps(e.flow.max_sub_steps);
   out->set_breakthrough_time_s(e.redetection.breakthrough_time_s);
+  out->set_redetections(e.redetection.redetections);
   out->set_peak_well_pressure_pa(e.injection.peak_well_pressure_pa);
   out->set_peak_well_time_s(e.injection.peak_well_time_s);
 }
@@ -121,6 +122,7 @@ core::EffectStates EffectStatesFromProto(const v1::MechanicsState& state) {
   }
   e.flow.max_sub_steps = state.max_flow_sub_steps();
   e.redetection.breakthrough_time_s = state.breakthrough_time_s();
+  e.redetection.redetections = state.redetections();
   e.injection.peak_well_pressure_pa = state.peak_well_pressure_pa();
   e.injection.peak_well_time_s = state.peak_well_time_s();
   return e;

@@ -77,9 +77,22 @@ Result<core::PackingSource> PackingFromProto(const v1::Packing& packing) {
   return InvalidArgument("scene.packing: one of lattice, random or particles is required");
 }
 
-Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
+// Whether the scene solves pipe flow: an empty effect list (flow alone) or one with flow.
+bool ListsFlow(const v1::Scene& scene) {
+  if (scene.effects_size() == 0) return true;
+  for (const v1::Effect& e : scene.effects()) {
+    if (e.has_flow()) return true;
+  }
+  return false;
+}
+
+// `flow`: the scene solves pipe flow. Without it (a DEM-only scene) the solver's kind and storage
+// mean nothing and may be left unset: the DEM step comes from the contacts, the end from
+// end_time_s.
+Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver, bool flow) {
   core::SolverSpec spec;
-  switch (solver.kind()) {
+  switch (flow || solver.kind() != v1::SOLVER_KIND_UNSPECIFIED ? solver.kind()
+                                                               : v1::SOLVER_KIND_EXPLICIT) {
     case v1::SOLVER_KIND_STEADY:
       spec.kind = core::SolverKind::kSteady;
       break;
@@ -107,7 +120,7 @@ Result<core::SolverSpec> SolverFromProto(const v1::Solver& solver) {
       break;
     default:
       // The steady state does not depend on storage, so only transient solvers need it.
-      if (spec.kind != core::SolverKind::kSteady) {
+      if (flow && spec.kind != core::SolverKind::kSteady) {
         return InvalidArgument(
             fmt::format("scene.solver.storage: a transient solver needs STORAGE_VOLUME_APPARENT or "
                         "STORAGE_VOLUME_PORE (got {})",
@@ -218,7 +231,7 @@ Result<core::SceneSpec> DecodeScene(const v1::Scene& scene) {
     SEEP_RETURN_IF_ERROR(AppendRegionFromProto(
         scene.boundary().regions(k), static_cast<std::size_t>(k), &spec.boundary.regions));
   }
-  SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver()));
+  SEEP_ASSIGN_OR_RETURN(spec.solver, SolverFromProto(scene.solver(), ListsFlow(scene)));
   for (int k = 0; k < scene.effects_size(); ++k) {
     SEEP_RETURN_IF_ERROR(
         AppendEffectFromProto(scene.effects(k), static_cast<std::size_t>(k), &spec.effects));

@@ -115,6 +115,14 @@ TEST_F(CliExitCodes, WrongCommandLineIs64AndHelpListsTheExitCodes) {
   EXPECT_EQ(Seep({"frobnicate"}).exit_code, 64);
   EXPECT_EQ(Seep({"show"}).exit_code, 64);  // the job id is missing
   EXPECT_EQ(Seep({"list", "--limit", "0"}).exit_code, 64);
+  // Step 0 is no checkpoint's: refused, not read as "the newest" (which exported another state).
+  for (const char* command : {"export", "plot"}) {
+    std::vector<std::string> args = {command, "j-1", "--step", "0"};
+    if (std::string(command) == "export") args.insert(args.end(), {"--out", dir_.string()});
+    const CommandResult run = Seep(args);
+    EXPECT_EQ(run.exit_code, 64) << command << ": " << run.output;
+    EXPECT_NE(run.output.find("--step"), std::string::npos) << run.output;
+  }
   const CommandResult help = Seep({"--help"});
   EXPECT_EQ(help.exit_code, 0) << help.output;
   for (const char* line : {"Exit codes:", "  5   no such job", "  14  server unreachable",

@@ -364,7 +364,7 @@ void DemContactForces::PairForcesKernel(DemParticles* particles, double dt, bool
       tq[i] += torque;
     }
   };
-  if (!(np >= dem_internal::kMinParallelItems && dem_internal::CoreThreads() > 1)) {
+  if (!(np >= dem_internal::MinParallelItems() && dem_internal::CoreThreads() > 1)) {
     // One thread: each pair adds to the sums of its two particles straight away, in ascending
     // pair order, which is the order of the gather below: the same additions, the same bits,
     // without a slot per pair (32 bytes) or the gather lists (8 bytes a pair).
@@ -461,6 +461,14 @@ void DemContactForces::ComputeWallForces(DemParticles* p, const std::vector<DemW
     if (!(gap < 0.0)) {
       wall_shear_[c] = 0.0;
       wall_fn_[c] = 0.0;
+      // A disk about to touch counts for the servo's gain in part (dem_wall.h's DemWallLoad):
+      // in full at contact, nothing from kServoApproachGap x its radius away.
+      const double weight = 1.0 - gap / (kServoApproachGap * ri);
+      if (weight > 0.0) {
+        DemWallLoad& load = wall_loads_[wall_w_[c]];
+        load.stiffness_sum += weight * law.kn;
+        load.damping_sum += weight * NormalDampingCoefficient(law, p->mass[i]);
+      }
       continue;
     }
     ++touching;

@@ -9,6 +9,7 @@ using internal::CoreThreads;
 using internal::ForEachShare;
 using internal::kMinParallelItems;
 using internal::MaxOverShares;
+using internal::MinParallelItems;
 using internal::OnTeam;
 using internal::RunOnTeam;
 using internal::TeamMember;

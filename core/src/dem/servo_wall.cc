@@ -24,9 +24,11 @@ Status ValidateServoWallSettings(const ServoWallSettings& s) {
 }
 
 double ServoWallSpeed(const ServoWallSettings& s, const DemWallLoad& load, double dt) {
-  if (load.stiffness_sum <= 0.0) return s.max_speed;  // no contact: advance to find the sample
+  // No contact: advance to find the sample, as fast as its first contact will allow.
+  const double stiffness = std::max(load.stiffness_sum, s.first_contact_stiffness);
+  if (stiffness <= 0.0) return s.max_speed;
   const double measured = load.normal_force / s.length;
-  const double gain = s.gain_fraction * s.length / (load.stiffness_sum * dt + load.damping_sum);
+  const double gain = s.gain_fraction * s.length / (stiffness * dt + load.damping_sum);
   return std::clamp(gain * (s.target_stress - measured), -s.max_speed, s.max_speed);
 }
 

@@ -74,6 +74,7 @@ class FluidForcesEffect final : public Effect {
     // Sized by the network's walls: the walls effect binds after this one.
     s.wall_pore_force.assign(s.net.walls.size(), 0.0);
     s.wall_fluid_stiffness.assign(s.net.walls.size(), 0.0);
+    if (weight_) wetted_stretches_ = WettedWallStretches(d);
     return Status::Ok();
   }
 
@@ -114,6 +115,7 @@ class FluidForcesEffect final : public Effect {
                   {s.particles.fx.data(), s.particles.fy.data(), s.particles.size(),
                    vertex_fx_.data(), vertex_fy_.data()});
     AddWallLoads(s);
+    if (weight_) AddWallWeightLoads(s);
     return Status::Ok();
   }
 
@@ -151,6 +153,23 @@ class FluidForcesEffect final : public Effect {
     }
   }
 
+  // With fluid weight the chord rule above pushes each wall with the heads P - W of the pores it
+  // closes; the pressure on a stretch of wall is the head plus w.x along it, so the field w.x
+  // integrated over every stretch a pore wets is added here: |v - u| w.(x_u + x_v) / 2 for the
+  // stretch from u to v (exact: the field is linear). Without it the push on a wall would move by
+  // w.x_wall per metre of wall with the origin of the scene (a wall's push must not depend on
+  // where the origin is; the translation test in fluid_weight_walls_test.cc checks it).
+  void AddWallWeightLoads(LiveState& s) const {
+    const ParticleView v = s.step_vertices.CurrentInStep(s);
+    for (const WallStretch& stretch : wetted_stretches_) {
+      const auto u = static_cast<std::size_t>(stretch.from);
+      const auto w = static_cast<std::size_t>(stretch.to);
+      const double length = std::hypot(v.x[w] - v.x[u], v.y[w] - v.y[u]);
+      const double field = 0.5 * (weight_->x * (v.x[u] + v.x[w]) + weight_->y * (v.y[u] + v.y[w]));
+      s.wall_pore_force[static_cast<std::size_t>(stretch.wall)] += field * length;
+    }
+  }
+
   PressureForceKernel kernel_;
   std::vector<double> slot_pressure_;  // domain pressures, then the outer arcs
   std::vector<std::int32_t> reservoir_of_boundary_pipe_;
@@ -159,6 +178,7 @@ class FluidForcesEffect final : public Effect {
   OuterArcPressures outer_;
   std::vector<double> vertex_fx_, vertex_fy_;  // per wall vertex, the pressure force on it
   std::vector<WallPore> wall_pores_;
+  std::vector<WallStretch> wetted_stretches_;  // with fluid weight only
   std::optional<FluidWeight> weight_;
   std::vector<double> node_weight_, head_;  // per flow node, with fluid weight only
 };

@@ -164,6 +164,7 @@ class WallsEffect final : public EffectWithSpec<WallsEffectSpec> {
       servo.length = placed[w].length;
       servo.gain_fraction = spec_.walls[w].servo_gain_fraction;
       servo.max_speed = spec_.walls[w].servo_max_speed_m_s;
+      servo.first_contact_stiffness = FindEffect<ContactsEffectSpec>(*s.scene)->law.kn;
       servo_.push_back(servo);
     }
     placed_ = s.walls;

@@ -96,6 +96,7 @@ class RedetectionEffect final : public Effect {
     }
     SceneNetwork& fresh = *built;
     ++s.counters.redetections;
+    ++state_.redetections;
 
     PressureRemapOptions options;
     options.storage = s.storage;
@@ -124,7 +125,12 @@ class RedetectionEffect final : public Effect {
     const double booked =
         (HeldFluid(fresh.flow, s.storage, fresh_well) - HeldFluid(s.net.flow, s.storage, -1)) /
         s.scene->fluid.bulk_modulus_pa;
+    // What the remap created or destroyed is now held by the domains: a source of the books
+    // (redetection_m2) and a change of what they store (compressed_m2), so that the balance
+    // closes whatever the remap did and fluid_balance_error measures the flow's own imbalance.
+    // Booked as a source alone, every remap's change showed up as an imbalance of its size.
     s.books.ledger.redetection_m2 += booked;
+    s.books.ledger.compressed_m2 += booked;
     s.books.ledger.handled_m2 += std::abs(booked);
     const double scale = std::max(std::abs(report.old_stored), std::abs(report.new_stored));
     const double error = report.unmatched_new == 0 && report.unmatched_old == 0 && scale > 0.0
@@ -157,6 +163,7 @@ class RedetectionEffect final : public Effect {
   void RestoreFrom(const EffectStates& in) override { state_ = in.redetection; }
   void AddMetrics(const LiveState&, Metrics* m) const override {
     if (state_.breakthrough_time_s >= 0.0) (*m)["breakthrough_time_s"] = state_.breakthrough_time_s;
+    (*m)["redetections"] = static_cast<double>(state_.redetections);
   }
 
  private:

@@ -359,7 +359,7 @@ Status ExplicitSolver::RefreshCoefficients(const FlowNetwork& network) {
   const double floor = options_.storage.floor_m2;
   const double bulk = options_.bulk_modulus;
   const auto domains = static_cast<std::ptrdiff_t>(n);
-  const int threads = domains >= internal::kMinParallelItems ? internal::CoreThreads() : 1;
+  const int threads = domains >= internal::MinParallelItems() ? internal::CoreThreads() : 1;
   sum_c_.resize(WithSinkSlots(n, threads));
   capacity_.resize(n);
   rate_.resize(n);
@@ -544,7 +544,7 @@ Result<FlowStepReport> ExplicitSolver::Step(FlowNetwork& network, double dt,
   const double* dv = volume_change.empty() ? nullptr : volume_change.data();
   double* node_outflow = tally != nullptr ? tally->node_outflow_m2.data() : nullptr;
   const int threads =
-      static_cast<std::ptrdiff_t>(n) >= internal::kMinParallelItems ? internal::CoreThreads() : 1;
+      static_cast<std::ptrdiff_t>(n) >= internal::MinParallelItems() ? internal::CoreThreads() : 1;
   Budget b;
   if (threads > 1) {
     if (owner_threads_ != threads) IndexPipesByShare(network, threads);

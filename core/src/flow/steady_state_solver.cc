@@ -45,9 +45,11 @@ Status SteadyStateSolver::PrepareTopology(const FlowNetwork& network) {
       return FailedPrecondition(
           "flow.steady: component " + std::to_string(k) + " (containing domain " +
           std::to_string(components_.first_domain[k]) +
-          ") has no fixed-pressure domain, so its steady pressure is undefined; fix the pressure "
-          "of at least one domain per connected component, or use "
-          "ClosedComponentPolicy::kConserveStoredFluid");
+          ") has no fixed-pressure domain, so its steady pressure is undefined (an isolated "
+          "pocket); in a scene, hold a pressure on it (scene.boundary.regions: a fixed_pressure "
+          "region around it) or run a transient solver (scene.solver.kind: explicit or "
+          "implicit), which keeps the fluid the pocket holds; from C++, "
+          "ClosedComponentPolicy::kConserveStoredFluid does the same in a steady solve");
     }
     pinned_[components_.first_domain[k]] = 1;  // gauge: solved relative to this domain
   }

@@ -124,6 +124,22 @@ Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& p
   return Status::Ok();
 }
 
+std::vector<WallStretch> WettedWallStretches(const DomainNetwork& d) {
+  std::vector<WallStretch> out;
+  const DomainWalls& walls = d.walls;
+  for (std::size_t domain = 0; domain < d.num_domains(); ++domain) {
+    const auto begin = static_cast<std::size_t>(d.loop_offsets[domain]);
+    const auto end = static_cast<std::size_t>(d.loop_offsets[domain + 1]);
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::int32_t c = d.loop_contacts[k];
+      if (!walls.IsWallEdge(c) || walls.edge_particle[walls.Edge(c)] >= 0) continue;
+      out.push_back({d.loop_particles[k], d.loop_particles[k + 1 < end ? k + 1 : begin],
+                     walls.edge_wall[walls.Edge(c)]});
+    }
+  }
+  return out;
+}
+
 Status ApplyHeadOffsets(std::span<const double> node_weight, FlowNetwork* flow) {
   if (node_weight.size() != flow->num_domains()) {
     return Internal(fmt::format("network.fluid_weight: {} node weights for {} nodes",

@@ -1,9 +1,32 @@
 #include "seep/core/network/scene_walls.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace seep::core {
+namespace {
+
+// A side wall at the outermost disk surface, *edge = x + r (or x - r, y + r, y - r), moved out by
+// ulps until no disk overlaps it in the DEM's own gap arithmetic (LineWallGap). Placed at the
+// rounded sum alone, the outermost disk overlaps it by up to half an ulp or not, as the rounding
+// at the sample's coordinates falls; a contact's dashpot engages at once, so whether a run starts
+// with that contact would depend on where the sample sits (the translation law of the
+// metamorphic suite found it). `outward` is -inf or +inf along the coordinate.
+void ClearOfEveryDisk(std::span<const double> x, std::span<const double> y,
+                      std::span<const double> radius, double nx, double ny, double outward,
+                      double* edge, double* px, double* py) {
+  for (;;) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      smallest = std::min(smallest, (x[i] - *px) * nx + (y[i] - *py) * ny - radius[i]);
+    }
+    if (!(smallest < 0.0)) return;
+    *edge = std::nextafter(*edge, outward);
+  }
+}
+
+}  // namespace
 
 Result<std::vector<PlacedWall>> PlaceWalls(const WallsEffectSpec& spec, std::span<const double> x,
                                            std::span<const double> y,
@@ -15,6 +38,16 @@ Result<std::vector<PlacedWall>> PlaceWalls(const WallsEffectSpec& spec, std::spa
     hi_x = std::max(hi_x, x[i] + radius[i]);
     lo_y = std::min(lo_y, y[i] - radius[i]);
     hi_y = std::max(hi_y, y[i] + radius[i]);
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  {
+    // px, py of each side's wall line as MakeWall takes them below.
+    double px = lo_x, py = lo_y;
+    ClearOfEveryDisk(x, y, radius, 1.0, 0.0, -inf, &lo_x, &lo_x, &py);
+    ClearOfEveryDisk(x, y, radius, -1.0, 0.0, inf, &hi_x, &hi_x, &py);
+    px = lo_x;
+    ClearOfEveryDisk(x, y, radius, 0.0, 1.0, -inf, &lo_y, &px, &lo_y);
+    ClearOfEveryDisk(x, y, radius, 0.0, -1.0, inf, &hi_y, &px, &hi_y);
   }
   std::vector<PlacedWall> out;
   for (const WallSpec& w : spec.walls) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 #include "../branch_free.h"
 #include "../parallel_threshold.h"
@@ -41,9 +42,26 @@ double CombinedStep(double contact_dt, double fluid_dt) {
   return 1.0 / std::sqrt(1.0 / (contact_dt * contact_dt) + 1.0 / (fluid_dt * fluid_dt));
 }
 
+// The most steps a run may take: past 2^53 steps a double time can no longer tell one step
+// from the next (t + dt == t), and past 2^64 the count itself would overflow.
+constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
+
+// Saturates at kMaxSteps (SetClock refuses a scene that needs more; a later, shorter step only
+// gets this far).
 std::uint64_t StepsToEnd(double end, double dt) {
+  const double steps = std::ceil(end / dt * (1.0 - 1e-12));
   return std::max<std::uint64_t>(1,
-                                 static_cast<std::uint64_t>(std::ceil(end / dt * (1.0 - 1e-12))));
+                                 static_cast<std::uint64_t>(steps < kMaxSteps ? steps : kMaxSteps));
+}
+
+// The scene's end over its step, refused when it is no number of steps a run can count.
+Status CheckStepCount(double end, double dt, std::string_view step_setting) {
+  const double steps = end / dt;
+  if (steps <= kMaxSteps) return Status::Ok();
+  return InvalidArgument(fmt::format(
+      "solver.end_time_s: {} s over a step of {} s is {:.3g} steps, more than a run can count "
+      "(2^53); shorten solver.end_time_s or lengthen the step ({})",
+      end, dt, steps, step_setting));
 }
 
 }  // namespace
@@ -102,6 +120,11 @@ Status Stepper::SetClock() {
   FlowEffect* flow = effects_.flow;
   fluid_limited_dt_ = std::numeric_limits<double>::infinity();
   if (!state_.moves()) {
+    // The validator refuses such a scene (effect_validation.cc); a stepper never trusts it to.
+    if (flow == nullptr) {
+      return InvalidArgument(
+          "scene.effects: a frozen packing without the flow effect runs nothing");
+    }
     if (flow->mode() == FlowMode::kSteady) return Status::Ok();
     if (!std::isfinite(flow->dt_crit_s())) {
       return FailedPrecondition("flow: no domain limits the time step (no pipes carry flow)");
@@ -121,6 +144,11 @@ Status Stepper::SetClock() {
     }
     if (flow != nullptr)
       flow_every_ = flow->SetEverySteps(dt_, fluid_limited_dt_, solver.dt_factor);
+  }
+  if (!program_.active()) {
+    SEEP_RETURN_IF_ERROR(CheckStepCount(
+        solver.end_time_s, dt_,
+        state_.moves() ? "contacts.dt_safety, the contact stiffnesses" : "solver.dt_factor"));
   }
   total_steps_ = program_.active() ? std::max<std::uint64_t>(1, program_.EstimateSteps(dt_))
                                    : StepsToEnd(solver.end_time_s, dt_);
@@ -475,7 +503,9 @@ Metrics Stepper::MeasureRun() const {
     m["dem_dt_s"] = dt_;
     if (std::isfinite(fluid_limited_dt_)) m["fluid_limited_dt_s"] = fluid_limited_dt_;
     m["flow_every_steps"] = static_cast<double>(flow_every_);
-    m["redetections"] = static_cast<double>(state_.counters.redetections);
+    // The run's count, which a checkpoint keeps (the redetection effect's own part); the work
+    // counter state_.counters.redetections counts this process's calls only.
+    m.try_emplace("redetections", 0.0);
     // Whether the fluid's stiffness was scaled safely (docs/accuracy.md, coupled runs): the
     // number, and beside it the bound under which the accuracy bench measured more than 5 %
     // error, so that a reader of the result (seep show) can warn without the physics.

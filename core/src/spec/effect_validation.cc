@@ -223,6 +223,13 @@ Status ValidateEffects(const SceneSpec& scene) {
                       Field(k, e, "")));
     }
   }
+  // Without contacts the particles stand still, so only the flow effect has anything to do; a
+  // list without it (gravity alone, weighing a fluid that nothing moves) would run nothing.
+  if (!mechanics && !flow && !scene.effects.empty()) {
+    return InvalidArgument(
+        "scene.effects: neither contacts nor flow is listed, so nothing would run (on a frozen "
+        "packing gravity weighs the fluid of the flow effect: add effects { flow {} })");
+  }
   if (mechanics) {
     if (scene.solver.kind == SolverKind::kSteady) {
       return InvalidArgument(

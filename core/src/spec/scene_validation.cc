@@ -1,5 +1,6 @@
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "fmt/format.h"
 #include "seep/core/spec/scene_spec.h"
@@ -127,11 +128,23 @@ struct PackingSourceValidator {
   Status operator()(const ParticleListSpec& s) const { return ValidateParticles(s); }
 };
 
-}  // namespace
-
-Status ValidateScene(const SceneSpec& scene) {
-  SEEP_RETURN_IF_ERROR(std::visit(PackingSourceValidator{}, scene.packing.source));
-  SEEP_RETURN_IF_ERROR(RequireNonNegative("packing.contact_gap_m", scene.packing.contact_gap_m));
+// What only a scene with pipe flow uses: the fluid, the apertures, the boundary's pressures and
+// the flow solver's settings. A DEM-only scene (contacts without flow) leaves them unset.
+Status ValidateFlowSettings(const SceneSpec& scene) {
+  if (!HasFlow(scene)) {
+    // Unset (0) in a DEM-only scene; a value given must still be a number in range.
+    const std::pair<const char*, double> given[] = {
+        {"fluid.viscosity_pa_s", scene.fluid.viscosity_pa_s},
+        {"fluid.bulk_modulus_pa", scene.fluid.bulk_modulus_pa},
+        {"fluid.density_kg_m3", scene.fluid.density_kg_m3},
+        {"aperture.residual_aperture_m", scene.aperture.residual_aperture_m},
+        {"aperture.reference_force_n", scene.aperture.reference_force_n},
+        {"aperture.gap_multiplier", scene.aperture.gap_multiplier},
+        {"aperture.max_aperture_m", scene.aperture.max_aperture_m},
+        {"solver.dt_factor", scene.solver.dt_factor}};
+    for (const auto& [field, value] : given) SEEP_RETURN_IF_ERROR(RequireNonNegative(field, value));
+    return Status::Ok();
+  }
   SEEP_RETURN_IF_ERROR(RequirePositive("fluid.viscosity_pa_s", scene.fluid.viscosity_pa_s));
   SEEP_RETURN_IF_ERROR(RequirePositive("fluid.bulk_modulus_pa", scene.fluid.bulk_modulus_pa));
   SEEP_RETURN_IF_ERROR(RequireNonNegative("fluid.density_kg_m3", scene.fluid.density_kg_m3));
@@ -193,10 +206,6 @@ Status ValidateScene(const SceneSpec& scene) {
   }
   if (scene.solver.kind != SolverKind::kSteady) {
     SEEP_RETURN_IF_ERROR(RequirePositive("solver.dt_factor", scene.solver.dt_factor));
-    // With stages each stage ends on its own (ValidateStages requires end_time_s = 0).
-    if (scene.stages.empty()) {
-      SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));
-    }
     if (scene.solver.kind == SolverKind::kExplicit && scene.solver.dt_factor > 1.0) {
       return InvalidArgument(fmt::format(
           "scene.solver.dt_factor: the explicit solver is unstable above the critical step; use a "
@@ -218,6 +227,19 @@ Status ValidateScene(const SceneSpec& scene) {
           "scene.boundary.axis: must be set (FLOW_AXIS_X or FLOW_AXIS_Y) or boundary.radial given; "
           "only a scene with a walls effect can leave both unset (the walls then bound the fluid)");
     }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status ValidateScene(const SceneSpec& scene) {
+  SEEP_RETURN_IF_ERROR(std::visit(PackingSourceValidator{}, scene.packing.source));
+  SEEP_RETURN_IF_ERROR(RequireNonNegative("packing.contact_gap_m", scene.packing.contact_gap_m));
+  SEEP_RETURN_IF_ERROR(ValidateFlowSettings(scene));
+  if (scene.solver.kind != SolverKind::kSteady && scene.stages.empty()) {
+    // With stages each stage ends on its own (ValidateStages requires end_time_s = 0).
+    SEEP_RETURN_IF_ERROR(RequirePositive("solver.end_time_s", scene.solver.end_time_s));
   }
   SEEP_RETURN_IF_ERROR(ValidateEffects(scene));
   SEEP_RETURN_IF_ERROR(ValidateBoundaryRegions(scene));

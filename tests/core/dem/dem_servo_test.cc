@@ -66,8 +66,28 @@ TEST(DemServoWall, SpeedFollowsTheGainLaw) {
   EXPECT_DOUBLE_EQ(ServoWallSpeed(s, load, dt), 5.0);
   load.damping_sum = 0.0;  // v = 0.1 * 100 = +10, at the cap
   EXPECT_DOUBLE_EQ(ServoWallSpeed(s, load, dt), 10.0);
-  load.stiffness_sum = 0.0;  // no contact: advance at max speed
+  load.stiffness_sum = 0.0;  // no contact, no first-contact stiffness: advance at max speed
   EXPECT_DOUBLE_EQ(ServoWallSpeed(s, load, dt), 10.0);
+}
+
+// Without contacts the wall takes its first contact's gain: the speed is the same whether a disk
+// touches it by a hair or not at all (it jumped to max_speed, an ulp deciding which).
+TEST(DemServoWall, SpeedDoesNotJumpWhenTheFirstContactForms) {
+  ServoWallSettings s;
+  s.target_stress = 30.0;
+  s.length = 2.0;
+  s.gain_fraction = 0.5;
+  s.max_speed = 10.0;
+  s.first_contact_stiffness = 1.0e5;
+  const double dt = 1e-4;
+  DemWallLoad touching;
+  touching.normal_force = 1e-12;
+  touching.stiffness_sum = 1.0e5;
+  touching.contact_count = 1;
+  const DemWallLoad apart;
+  // G = 0.5 * 2 / (1e5 * 1e-4) = 0.1; v = 0.1 * 30 = 3, below the cap.
+  EXPECT_NEAR(ServoWallSpeed(s, touching, dt), 3.0, 1e-12);
+  EXPECT_NEAR(ServoWallSpeed(s, apart, dt), 3.0, 1e-12);
 }
 
 }  // namespace

@@ -119,6 +119,20 @@ TEST(DemStepRetune, ResumeAfterTheStepShortenedIsBitIdentical) {
   EXPECT_EQ(got.mechanics->y, expected.mechanics->y);
   EXPECT_EQ(got.pressure, expected.pressure);
   EXPECT_EQ(got.series.values, expected.series.values);
+  // And the same metrics: the run's counts (re-detections among them) are the run's, not this
+  // process's since its restore.
+  const RunReport want = reference.Report();
+  const RunReport have = resumed.Report();
+  ASSERT_EQ(have.metrics.size(), want.metrics.size());
+  bool redetected = false;
+  for (std::size_t k = 0; k < want.metrics.size(); ++k) {
+    const auto& [name, value] = want.metrics[k];
+    EXPECT_EQ(have.metrics[k].first, name);
+    EXPECT_EQ(std::memcmp(&have.metrics[k].second, &value, sizeof(double)), 0)
+        << name << ": resumed " << have.metrics[k].second << ", uninterrupted " << value;
+    if (name == "redetections") redetected = value > 0.0;
+  }
+  EXPECT_TRUE(redetected) << "the scene must re-detect before the resume point for this test";
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "bad_scenes.h"
 #include "codec/state_size_estimate.h"
+#include "seep/core/run/simulation.h"
 
 namespace seep::service {
 namespace {
@@ -237,6 +238,49 @@ TEST(SceneCodec, StorageFactorDefaultsToOne) {
   EXPECT_EQ(SceneFromProto(scene)->solver.storage_factor, 1.0);
   scene.mutable_solver()->set_storage_factor(0.25);
   EXPECT_EQ(SceneFromProto(scene)->solver.storage_factor, 0.25);
+}
+
+// A DEM-only scene (contacts, no flow) gives what the DEM uses and nothing of the fluid, the
+// apertures or the flow solver: it converts and runs; the same scene with flow is refused for the
+// solver fields flow needs.
+TEST(SceneCodec, ADemOnlySceneNeedsNoFlowSettings) {
+  v1::Scene scene;
+  ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(
+      R"pb(
+        name: "dem only"
+        packing { lattice { kind: LATTICE_KIND_HEX columns: 4 rows: 4 radius_m: 1e-3 } }
+        solver { end_time_s: 1e-4 }
+        effects {
+          contacts {
+            law {
+              kn_n_per_m: 1e7
+              kt_n_per_m: 5e6
+              friction: 0.5
+              damping: NORMAL_DAMPING_CRITICAL_RATIO
+              damping_ratio: 0.3
+            }
+            density_kg_m3: 2650
+          }
+        }
+        effects { gravity { gy_m_s2: -9.81 } }
+      )pb",
+      &scene));
+  auto spec = SceneFromProto(scene);
+  ASSERT_TRUE(spec.ok()) << spec.status().ToString();
+  auto sim = core::Simulation::Create(*spec);
+  ASSERT_TRUE(sim.ok()) << sim.status().ToString();
+  EXPECT_TRUE(sim->Run({}).ok());
+  // A value given must still be in range, flow or not.
+  scene.mutable_fluid()->set_viscosity_pa_s(-1.0);
+  const auto negative = SceneFromProto(scene);
+  ASSERT_FALSE(negative.ok());
+  EXPECT_NE(negative.status().message().find("scene.fluid.viscosity_pa_s"), std::string::npos);
+  scene.mutable_fluid()->clear_viscosity_pa_s();
+  scene.add_effects()->mutable_flow();
+  const auto with_flow = SceneFromProto(scene);
+  ASSERT_FALSE(with_flow.ok());
+  EXPECT_NE(with_flow.status().message().find("scene.solver."), std::string::npos)
+      << with_flow.status().message();
 }
 
 // The scenes shipped in examples/ parse and pass validation.

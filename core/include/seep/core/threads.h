@@ -11,6 +11,12 @@ namespace seep::core {
 // Sets the thread count of the core's parallel loops started from the calling thread (>= 1).
 void SetCoreThreadsForThisThread(int threads);
 
+// For tests: loops over at least `items` items (instead of the core's threshold, 8,192) go to
+// the calling thread's team, so that a scene of a few hundred disks takes the same parallel paths
+// a large one does. Results must not change (every parallel loop is bit-identical on any thread
+// count); a thread-count test over small generated scenes sets it to check that they do not.
+void SetMinParallelItemsForThisThread(long items);
+
 // The cores of this machine shared out among `concurrent_jobs` jobs: max(1, cores / jobs).
 int CoreThreadsPerJob(int concurrent_jobs);
 

@@ -23,6 +23,7 @@ struct FlowEffectState {
 
 struct RedetectionEffectState {
   double breakthrough_time_s = -1.0;  // when a fracture first opened the well to the outside
+  std::uint64_t redetections = 0;     // networks rebuilt since the run began (metric redetections)
 };
 
 struct InjectionEffectState {

@@ -6,14 +6,17 @@
 //   injected_m2     sum dt Q_src: the well's injection and the flux regions' rates (< 0: the
 //                   regions extracted more than was injected)
 //   left_m2[b]      what left the sample into boundary b (FluidBoundaryNames order; < 0: came in)
-//   compressed_m2   sum V_s dP / K_f over the free and source domains, update by update
+//   compressed_m2   sum V_s dP / K_f over the free and source domains, update by update, and
+//                   what each re-detection's remap changed of it (as redetection_m2 books it)
 //   pore_growth_m2  sum dV over them (fluid taken up by the pores opening)
 //   redetection_m2  fluid created (> 0) or destroyed (< 0) by re-detections: the free and source
 //                   domains' sum V_s P / K_f after each one minus before. A remap that conserves
 //                   every cluster books rounding; a pocket born, a domain lost to a reservoir at
 //                   breakthrough or merged into a fixed node books what it held or took.
 //   handled_m2      the fluid the books moved: injected, every boundary exchange step by step,
-//                   the magnitude of every booking — what the balance error is relative to.
+//                   the magnitude of every booking, and what the pores' deformation moved (sum
+//                   |dV| over the free and source domains, update by update) — what the
+//                   balance error is relative to.
 //
 // The balance: injected - sum left + redetection = compressed + pore_growth.
 // since_step: the books start there (0; a run resumed from a checkpoint written before the

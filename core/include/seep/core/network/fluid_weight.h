@@ -41,6 +41,13 @@ std::optional<FluidWeight> SceneFluidWeight(const SceneSpec& scene);
 Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& positions,
                                   const FluidWeight& weight, std::vector<double>* out);
 
+// A stretch of wall a domain's loop runs along: its two wall vertices (loop ids, in the loop's
+// order) and its wall. The fluid weight's part of a wall's load is integrated over these.
+struct WallStretch {
+  std::int32_t from = 0, to = 0, wall = 0;
+};
+std::vector<WallStretch> WettedWallStretches(const DomainNetwork& domains);
+
 // Sets the head offset W_b - W_a of every pipe of *flow (bumps its coefficient version).
 Status ApplyHeadOffsets(std::span<const double> node_weight, FlowNetwork* flow);
 
