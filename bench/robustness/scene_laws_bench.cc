@@ -2,13 +2,16 @@
 // scenes as it is given time for (the CTest suite runs 200 fixed seeds; this runs thousands).
 //
 //   seep_scene_laws_bench [--seconds S] [--first-seed N] [--count N] [--seed N] [--threads-law]
+//                         [--real-water]
 //
 // Seeds from --first-seed on (default 1,000: past the CTest suite's 1-200), until --count scenes
 // or --seconds have passed. --seed N checks that one scene and prints it (what to reproduce a
 // failure with). Each scene: a translation, a quarter turn and a mirror, a resume at a step drawn
 // from the seed, and the fluid books; --threads-law adds one thread against two (every loop on
-// the team). Prints one line per failure (seed, family, law, what broke) and a summary: scenes,
-// laws checked, failures, time, scenes per family. Exit status 1 when any law failed.
+// the team); --real-water lets the moving scenes draw real water too (scene_generator.h says why
+// the CTest suite does not). Prints one line per failure (seed, family, law, what broke) and a
+// summary: scenes, laws checked, failures, time, scenes per family. Exit status 1 when any law
+// failed.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -34,6 +37,7 @@ struct Options {
   std::uint64_t count = 1'000'000;
   std::uint64_t one_seed = 0;
   bool threads_law = false;
+  bool real_water = false;
 };
 
 bool ParseOptions(int argc, char** argv, Options* o) {
@@ -42,6 +46,8 @@ bool ParseOptions(int argc, char** argv, Options* o) {
     const bool has_value = k + 1 < argc;
     if (arg == "--threads-law") {
       o->threads_law = true;
+    } else if (arg == "--real-water") {
+      o->real_water = true;
     } else if (arg == "--seconds" && has_value) {
       o->seconds = std::strtod(argv[++k], nullptr);
     } else if (arg == "--first-seed" && has_value) {
@@ -53,7 +59,7 @@ bool ParseOptions(int argc, char** argv, Options* o) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--seconds S] [--first-seed N] [--count N] [--seed N] "
-                   "[--threads-law]\n(unknown or incomplete argument: %s)\n",
+                   "[--threads-law] [--real-water]\n(unknown or incomplete argument: %s)\n",
                    argv[0], arg.c_str());
       return false;
     }
@@ -92,7 +98,7 @@ int main(int argc, char** argv) {
   std::uint64_t scenes = 0, laws = 0, failures = 0, sensitive = 0;
   std::map<std::string, std::uint64_t> per_family;
   for (std::uint64_t seed = first; seed < first + count && elapsed() < o.seconds; ++seed) {
-    const GeneratedScene g = GenerateScene(seed);
+    const GeneratedScene g = GenerateScene(seed, {o.real_water});
     if (o.one_seed > 0)
       std::printf("seed %llu: %s\n", static_cast<unsigned long long>(seed), Describe(g).c_str());
     ++scenes;

@@ -21,19 +21,25 @@ void GravityRange(std::ptrdiff_t begin, std::ptrdiff_t end, double gx, double gy
   }
 }
 
-// -alpha |f| sign(v), with sign(0) = 0 (a particle at rest is not pushed).
-inline double Damped(double f, double v, double alpha) {
-  const double d = alpha * std::abs(f);
-  return v > 0.0 ? f - d : (v < 0.0 ? f + d : f);
+// -alpha |f| sign(v), with sign(v) = 0 at rest: for |v| at most kRestFraction of the velocity
+// the force gives in one step, |f| dt / m (`step_gain` = dt / m or dt / I).
+inline double Damped(double f, double v, double alpha, double step_gain) {
+  const double magnitude = std::abs(f);
+  if (std::abs(v) <= kRestFraction * magnitude * step_gain) return f;
+  const double d = alpha * magnitude;
+  return v > 0.0 ? f - d : f + d;
 }
 
-void DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, double* __restrict fx,
-                  double* __restrict fy, double* __restrict torque, const double* __restrict vx,
-                  const double* __restrict vy, const double* __restrict omega) {
+void DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, double dt,
+                  double* __restrict fx, double* __restrict fy, double* __restrict torque,
+                  const double* __restrict vx, const double* __restrict vy,
+                  const double* __restrict omega, const double* __restrict inv_mass,
+                  const double* __restrict inv_inertia) {
   for (std::ptrdiff_t i = begin; i < end; ++i) {
-    fx[i] = Damped(fx[i], vx[i], alpha);
-    fy[i] = Damped(fy[i], vy[i], alpha);
-    torque[i] = Damped(torque[i], omega[i], alpha);
+    const double translation = dt * inv_mass[i];
+    fx[i] = Damped(fx[i], vx[i], alpha, translation);
+    fy[i] = Damped(fy[i], vy[i], alpha, translation);
+    torque[i] = Damped(torque[i], omega[i], alpha, dt * inv_inertia[i]);
   }
 }
 
@@ -47,11 +53,11 @@ void AddGravity(DemParticles* p, double gx, double gy, DemCounters* counters) {
   if (counters != nullptr) counters->gravity_applications += static_cast<std::uint64_t>(n);
 }
 
-void ApplyLocalDamping(DemParticles* p, double alpha, DemCounters* counters) {
+void ApplyLocalDamping(DemParticles* p, double alpha, double dt, DemCounters* counters) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
   dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    DampingRange(begin, end, alpha, p->fx.data(), p->fy.data(), p->torque.data(), p->vx.data(),
-                 p->vy.data(), p->omega.data());
+    DampingRange(begin, end, alpha, dt, p->fx.data(), p->fy.data(), p->torque.data(), p->vx.data(),
+                 p->vy.data(), p->omega.data(), p->inv_mass.data(), p->inv_inertia.data());
   });
   if (counters != nullptr) counters->local_damping_applications += static_cast<std::uint64_t>(n);
 }

@@ -10,7 +10,9 @@ Status ComputeDemForces(DemParticles* particles, const std::vector<DemWall>& wal
   if (options.gravity_x != 0.0 || options.gravity_y != 0.0) {
     AddGravity(particles, options.gravity_x, options.gravity_y, counters);
   }
-  if (options.local_damping > 0.0) ApplyLocalDamping(particles, options.local_damping, counters);
+  if (options.local_damping > 0.0) {
+    ApplyLocalDamping(particles, options.local_damping, options.dt, counters);
+  }
   return Status::Ok();
 }
 

@@ -105,7 +105,7 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   weight_ = SceneFluidWeight(scene);
   SEEP_RETURN_IF_ERROR(RefreshFluidWeight(s));
   if (weight_ && s.has_network && scene.boundary.initial_pressure_hydrostatic) {
-    ApplyHydrostaticStart(scene, *weight_, node_weight_, &s.net.flow);
+    ApplyHydrostaticStart(scene, *weight_, node_weight_, &s.net);
   }
   if (mode_ == FlowMode::kSteady) return Status::Ok();
   boundary_names_ = FluidBoundaryNames(scene);

@@ -165,7 +165,9 @@ class FluidForcesEffect final : public Effect {
       const auto u = static_cast<std::size_t>(stretch.from);
       const auto w = static_cast<std::size_t>(stretch.to);
       const double length = std::hypot(v.x[w] - v.x[u], v.y[w] - v.y[u]);
-      const double field = 0.5 * (weight_->x * (v.x[u] + v.x[w]) + weight_->y * (v.y[u] + v.y[w]));
+      // w.(x - o) at the stretch's middle, o the weight origin the heads are measured from.
+      const double field = weight_->x * (0.5 * (v.x[u] + v.x[w]) - s.net.weight_origin_x_m) +
+                           weight_->y * (0.5 * (v.y[u] + v.y[w]) - s.net.weight_origin_y_m);
       s.wall_pore_force[static_cast<std::size_t>(stretch.wall)] += field * length;
     }
   }

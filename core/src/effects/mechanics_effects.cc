@@ -131,8 +131,8 @@ class LocalDampingEffect final : public EffectWithSpec<LocalDampingEffectSpec> {
  public:
   using EffectWithSpec::EffectWithSpec;
   std::uint32_t Hooks() const override { return kPostForceHook; }
-  Status PostForce(LiveState& s, const StepInfo&) override {
-    ApplyLocalDamping(&s.particles, spec_.alpha, &s.counters.dem);
+  Status PostForce(LiveState& s, const StepInfo& info) override {
+    ApplyLocalDamping(&s.particles, spec_.alpha, info.dt, &s.counters.dem);
     return Status::Ok();
   }
   // A stage may change alpha (e.g. damped confinement, then undamped injection).

@@ -86,6 +86,8 @@ class RedetectionEffect final : public Effect {
       next.wall_contacts = wall_candidate_;
     }
     next.mean_radius_m = s.net.mean_radius_m;
+    next.weight_origin_x_m = s.net.weight_origin_x_m;
+    next.weight_origin_y_m = s.net.weight_origin_y_m;
     next.well_x_m = s.net.well_x_m;
     next.well_y_m = s.net.well_y_m;
     next.well_may_vanish = true;

@@ -81,7 +81,8 @@ Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& p
     const auto end = static_cast<std::size_t>(d.loop_offsets[k + 1]);
     LoopCentroid(positions, std::span(d.loop_particles).subspan(begin, end - begin), &centroid_x[k],
                  &centroid_y[k]);
-    (*out)[k] = weight.x * centroid_x[k] + weight.y * centroid_y[k];
+    (*out)[k] = weight.x * (centroid_x[k] - net.weight_origin_x_m) +
+                weight.y * (centroid_y[k] - net.weight_origin_y_m);
   }
   if (nodes == domains) return Status::Ok();
   // Reservoirs: the mean contact point of their pipes; for a drained wall, the point of the
@@ -119,7 +120,8 @@ Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& p
   }
   for (std::size_t r = 0; r < count.size(); ++r) {
     if (count[r] == 0.0) continue;
-    (*out)[domains + r] = weight.x * (sum_x[r] / count[r]) + weight.y * (sum_y[r] / count[r]);
+    (*out)[domains + r] = weight.x * (sum_x[r] / count[r] - net.weight_origin_x_m) +
+                          weight.y * (sum_y[r] / count[r] - net.weight_origin_y_m);
   }
   return Status::Ok();
 }
@@ -156,9 +158,11 @@ Status ApplyHeadOffsets(std::span<const double> node_weight, FlowNetwork* flow) 
 }
 
 void ApplyHydrostaticStart(const SceneSpec& scene, const FluidWeight& weight,
-                           std::span<const double> node_weight, FlowNetwork* flow) {
+                           std::span<const double> node_weight, SceneNetwork* net) {
   const BoundarySpec& b = scene.boundary;
-  const double reference = weight.x * b.initial_pressure_x_m + weight.y * b.initial_pressure_y_m;
+  const double reference = weight.x * (b.initial_pressure_x_m - net->weight_origin_x_m) +
+                           weight.y * (b.initial_pressure_y_m - net->weight_origin_y_m);
+  FlowNetwork* flow = &net->flow;
   const auto role = flow->role();
   const auto pressure = flow->mutable_pressure();
   for (std::size_t n = 0; n < pressure.size(); ++n) {

@@ -349,6 +349,8 @@ Result<SceneNetwork> BuildSceneNetwork(const SceneSpec& scene) {
   double radius_sum = 0.0;
   for (double r : p.radius) radius_sum += r;
   net.mean_radius_m = radius_sum / static_cast<double>(p.size());
+  net.weight_origin_x_m = p.x[0];
+  net.weight_origin_y_m = p.y[0];
   ContactDetector contact_detector;
   const double max_gap = SceneContactGap(scene, net.mean_radius_m);
   SEEP_RETURN_IF_ERROR(contact_detector.Detect(p, max_gap, &net.contacts));

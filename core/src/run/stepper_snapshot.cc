@@ -287,6 +287,8 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
     net.wall_contacts.wall = snap.detection_wall_wall;
     net.wall_contacts.gap = snap.detection_wall_gap;
     net.mean_radius_m = s.net.mean_radius_m;
+    net.weight_origin_x_m = s.net.weight_origin_x_m;
+    net.weight_origin_y_m = s.net.weight_origin_y_m;
     net.well_x_m = s.net.well_x_m;
     net.well_y_m = s.net.well_y_m;
     net.well_may_vanish = s.net.well_may_vanish;

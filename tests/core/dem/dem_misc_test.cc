@@ -110,3 +110,30 @@ TEST(DemContacts, ContactsAreSortedAndCountersOfAbsentPiecesStayZero) {
 
 }  // namespace
 }  // namespace seep::core
+
+namespace seep::core {
+namespace {
+
+// PFC local damping takes sign(v) = 0 at rest, and a velocity at rounding level (below
+// kRestFraction of what the force gives in a step) is rest: its sign, which rounding decides,
+// must not put alpha |F| on the particle one way or the other.
+TEST(DemLocalDamping, AVelocityAtRoundingLevelIsRest) {
+  DemParticles p = MakeDisks({{0.0, 0.0, 0.5}, {5.0, 0.0, 0.5}}, 1.0);
+  const double dt = 1e-3;
+  const double step_velocity = 2.0 * dt * p.inv_mass[0];  // what F = 2 gives in a step
+  p.fx = {2.0, 2.0};
+  p.fy = {0.0, 0.0};
+  p.vx = {1e-20 * step_velocity, -1e-20 * step_velocity};  // rounding: either sign, undamped
+  p.vy = {0.0, 0.0};
+  ApplyLocalDamping(&p, 0.5, dt, nullptr);
+  EXPECT_EQ(p.fx[0], 2.0);
+  EXPECT_EQ(p.fx[1], 2.0);
+  p.fx = {2.0, 2.0};
+  p.vx = {1e-6 * step_velocity, -1e-6 * step_velocity};  // moving: damped against the motion
+  ApplyLocalDamping(&p, 0.5, dt, nullptr);
+  EXPECT_EQ(p.fx[0], 1.0);
+  EXPECT_EQ(p.fx[1], 3.0);
+}
+
+}  // namespace
+}  // namespace seep::core

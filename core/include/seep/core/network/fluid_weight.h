@@ -35,8 +35,9 @@ struct FluidWeight {
 // The scene's fluid weight, or none when the fluid has no density or the scene no gravity.
 std::optional<FluidWeight> SceneFluidWeight(const SceneSpec& scene);
 
-// W_n = w.x_n for every node of net.flow (see above), the particles at `positions` (the ids of
-// net.packing). A reservoir without pipes gets 0 (nothing flows through it). Allocates only when
+// W_n = w.(x_n - o) for every node of net.flow (see above), o the network's weight origin
+// (SceneNetwork::weight_origin_x_m, a point of the sample), the particles at `positions` (the ids
+// of net.packing). A reservoir without pipes gets 0 (nothing flows through it). Allocates only when
 // *out grows.
 Status ComputeNodeWeightPressures(const SceneNetwork& net, const ParticleView& positions,
                                   const FluidWeight& weight, std::vector<double>* out);
@@ -51,9 +52,9 @@ std::vector<WallStretch> WettedWallStretches(const DomainNetwork& domains);
 // Sets the head offset W_b - W_a of every pipe of *flow (bumps its coefficient version).
 Status ApplyHeadOffsets(std::span<const double> node_weight, FlowNetwork* flow);
 
-// The hydrostatic start (BoundarySpec::initial_pressure_hydrostatic): every non-fixed node at
-// P_n = initial_pressure_pa + W_n - w.x_ref.
+// The hydrostatic start (BoundarySpec::initial_pressure_hydrostatic): every non-fixed node of
+// net->flow at P_n = initial_pressure_pa + W_n - w.(x_ref - o).
 void ApplyHydrostaticStart(const SceneSpec& scene, const FluidWeight& weight,
-                           std::span<const double> node_weight, FlowNetwork* flow);
+                           std::span<const double> node_weight, SceneNetwork* net);
 
 }  // namespace seep::core

@@ -100,6 +100,14 @@ struct SceneNetwork {
   double length_m = 0.0;
   double width_m = 0.0;
   double mean_radius_m = 0.0;
+  // With fluid weight: the point the weight pressures W = w.(x - origin) are measured from, the
+  // centre of the first particle at set-up (kept through re-detections). A point of the sample
+  // rather than the scene's origin, taken with no arithmetic: the heads P - W of a sample are then
+  // the same bits wherever it sits and however it is turned (a moved sample's uniform heads
+  // differed in their last bits, which local damping's sign(v) at v = 0 turned into finite
+  // differences), and they keep their digits far from the origin.
+  double weight_origin_x_m = 0.0;
+  double weight_origin_y_m = 0.0;
   // Radial boundary only (inlet_node, outlet_node and the Darcy geometry stay unset).
   std::int32_t well_domain = -1;  // the hole's domain, held at the well pressure
   // Set by a re-detection on moving particles: a fracture that reaches the hull joins the well to
