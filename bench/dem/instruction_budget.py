@@ -13,7 +13,7 @@ examples' bits need (every coupled pass keeps its operations, see seep_example_s
 
 Usage: instruction_budget.py BENCH BED [--steps 300]
   BENCH  a Release build's bench/dem/seep_coupled_share_bench
-  BED    bench/data/settled_bed_9900.txt
+  BED    bench/settled_bed_9900.txt
 Takes about 25 s at 300 steps (valgrind runs the bench some 50x slower).
 """
 import argparse
