@@ -1,7 +1,7 @@
 // FlowNetwork: the pipe network the pressure solvers work on, as plain structure-of-arrays.
 //
 // It knows nothing about particles or geometry: the scene glue maps detected domains and contacts
-// onto these arrays (physics.md §2.1). Units are SI per unit thickness.
+// onto these arrays (docs/physics.md §2.1). Units are SI per unit thickness.
 //
 // Domains (index d in [0, num_domains)):
 //   apparent_volume[d]  V_d, m^2: polygon area through the particle centres.
