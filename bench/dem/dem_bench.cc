@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", bed.status().ToString().c_str());
     return 1;
   }
-  // Replicate the 100-wide periodic bed along x (the 99,000-disk case of the README).
+  // Replicate the 100-wide periodic bed along x (the 99,000-disk case of bench/README.md).
   Packing packing;
   packing.Reserve(bed->size() * static_cast<std::size_t>(replicate));
   for (int c = 0; c < replicate; ++c) {

@@ -60,8 +60,8 @@ struct FluidSpec {
   double bulk_modulus_pa = 2.2e9;
   // rho_f, kg/m^3; 0 = the fluid has no weight. The weight acts only with a gravity effect
   // (which gives g): the pipes are then driven by the head, P - rho_f g.x, and the particles
-  // are buoyed (README "Fluid weight", network/fluid_weight.h). Without a gravity effect a density
-  // changes nothing.
+  // are buoyed (docs/guide/fluid-weight.md, network/fluid_weight.h). Without a gravity effect a
+  // density changes nothing.
   double density_kg_m3 = 0.0;
 };
 
