@@ -11,8 +11,9 @@ examples, scripts, cmake, docs, README.md):
    document before it refers to the file itself. Outside Markdown a `§` must name its document.
 3. No document outside the repository is cited (design-anchors, ../shared/...).
 4. Every example file the docs name (examples/...) exists.
-5. Every `seep <command>` written as code in docs/guide/ (and README.md) is a command the CLI
-   declares: the CLI11 subcommands of client/*.cc, read from the source, so no build is needed.
+5. Every `seep <command>` written as code in docs/guide/ (and README.md, docs/reference/cli.md)
+   is a command the CLI declares: the CLI11 subcommands of client/*.cc, read from the source, so
+   no build is needed.
 6. Every field of proto/seep/v1/scene.proto reachable from Scene has a row in docs/reference/:
    a table row starting with the field in backticks, under a heading naming its message.
 
@@ -213,7 +214,7 @@ class Checker:
             self.error(f"{rel}:{line}", f"'seep {command}' is not a command of the CLI (client/)")
             return
         if command in nested and i + 1 < len(tokens):
-            for sub in tokens[i + 1].strip("`,.;:)").split("|"):
+            for sub in tokens[i + 1].replace("\\|", "|").strip("`,.;:)").split("|"):
                 if re.fullmatch(r"[a-z][a-z-]*", sub) and sub not in nested[command]:
                     if command == "sweep" or tokens[i + 1].count("|"):
                         self.error(f"{rel}:{line}",
@@ -278,7 +279,7 @@ class Checker:
             self.check_citations(rel, text)
             if rel.startswith("docs/") or rel == "README.md":
                 self.check_examples(rel, text)
-            if rel.startswith("docs/guide/") or rel == "README.md":
+            if rel.startswith("docs/guide/") or rel in ("README.md", "docs/reference/cli.md"):
                 self.check_cli(rel, text, top, nested, value_options)
         fields = self.check_scene_reference()
         return len(files), len(top), fields
