@@ -1,4 +1,4 @@
-# Fails when an include crosses the project's layers the wrong way (README "Architecture").
+# Fails when an include crosses the project's layers the wrong way (docs/architecture.md §1).
 #
 # Inside seep::core each folder has a rank; a file may include its own folder and folders of a
 # lower rank only (two folders of the same rank are independent of each other):

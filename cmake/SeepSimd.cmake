@@ -3,7 +3,7 @@
 #
 # The coupled step's passes (edge turns and lenses, apertures, the explicit sweep) divide and take
 # square roots per contact: with 4 doubles a vector instead of SSE2's 2 they run 10-25 % faster
-# (README, Architecture, "Floating point and vector width"). Results do not depend on the width: IEEE add, multiply, divide and sqrt
+# (docs/architecture.md §5.2). Results do not depend on the width: IEEE add, multiply, divide and sqrt
 # are correctly rounded per element, the vectoriser reorders no sum (no -ffast-math, no
 # -fassociative-math), and AVX2 here comes without FMA, whose fused a*b+c rounds once where the
 # SSE2 build rounds twice. -ffp-contract=off says the same to the compiler for any flags a user

@@ -20,8 +20,8 @@ stage_done() { echo "== $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS;
 # use no gRPC at all.
 # Unity batches (CMake's CMAKE_UNITY_BUILD, 8 files a batch) in every build here: a test file and
 # a core or service file spend most of their compile time in the same headers (GoogleTest, gRPC,
-# protobuf, Eigen), which a batch parses once; the ASan build took 1,063-1,142 s without them,
-# the Release build 1,205 s against 773 s with them (same slow machine, session 26). A batch
+# protobuf, Eigen), which a batch parses once: a Release build takes about two-thirds of the time
+# it takes one file a unit (docs/development.md). A batch
 # keeps every file's own names apart: a name two files both define at file scope stops the build.
 # The benches (bench/CMakeLists.txt) and the generated protobuf code stay one file a unit.
 unity=(-G Ninja -DCMAKE_UNITY_BUILD=ON)

@@ -7,7 +7,7 @@
 //
 // Runs the verification problems that have an analytic answer over a grid of solver choices,
 // through the real path (SceneSpec -> Simulation::Create -> Simulation::Run):
-//   - 1D transient diffusion, Dirichlet–Dirichlet (physics.md §3.2), at T = 0.05 and 0.2:
+//   - 1D transient diffusion, Dirichlet–Dirichlet (docs/physics.md §3.2), at T = 0.05 and 0.2:
 //     explicit with apparent volume V_d (PFC's scheme), explicit with pore volume V_p,
 //     backward Euler (V_p), Crank–Nicolson (V_p); dt as a fraction (explicit) or multiple
 //     (implicit) of dt_crit; resolution; K_f scaling;

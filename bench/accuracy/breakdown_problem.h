@@ -1,4 +1,4 @@
-// Hydraulic-fracturing breakdown (the hydrofrac test's scene, physics.md §5) in the accuracy
+// Hydraulic-fracturing breakdown (the hydrofrac test's scene, docs/physics.md §5) in the accuracy
 // bench's coupled grid: a bonded hex lattice confined by four drained servo walls at sigma, water
 // injected at a constant rate into a well in its centre, run until the first bond breaks. The
 // compared number is the initiation pressure, the well pressure at which the first bond broke:

@@ -18,7 +18,7 @@ using core::SceneSpec;
 using core::SolverKind;
 using core::StorageVolume;
 
-// Square lattice: pore / apparent volume of every domain, (4 - pi) / 4 (physics.md §1.2).
+// Square lattice: pore / apparent volume of every domain, (4 - pi) / 4 (docs/physics.md §1.2).
 constexpr double kSquarePorosity = 0.21460183660255172;
 
 SceneSpec LatticeScene(int side) {

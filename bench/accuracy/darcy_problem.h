@@ -1,4 +1,4 @@
-// Darcy steady permeability (physics.md §3.1, V4) on a rigid square lattice of n x n disks,
+// Darcy steady permeability (docs/physics.md §3.1, V4) on a rigid square lattice of n x n disks,
 // Dirichlet inlet/outlet along x, no-flow sides: the measured k = mu Q L / (H dP) (the
 // Simulation's permeability_m2, Q the mean of inflow and outflow) against the exact a^3/(24R).
 // The steady solver gives it in one solve; the explicit and implicit solvers are run from p = 0

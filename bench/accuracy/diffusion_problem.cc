@@ -153,7 +153,7 @@ void RunDiffusionGrid(const DiffusionGrid& grid, std::vector<AccuracyRun>& rows)
       std::fprintf(stderr, "diffusion: %s\n", geometry.status().ToString().c_str());
       continue;
     }
-    // Exact lattice permeability a^3 / (24 R) (physics.md §1.3).
+    // Exact lattice permeability a^3 / (24 R) (docs/physics.md §1.3).
     const double k = kAperture * kAperture * kAperture / (24.0 * kRadius);
     for (const double T : grid.times) {
       for (const double kf : grid.bulk_moduli_pa) {

@@ -1,4 +1,4 @@
-// 1D transient pressure diffusion (physics.md §3.2, case (a) Dirichlet–Dirichlet) on a rigid
+// 1D transient pressure diffusion (docs/physics.md §3.2, case (a) Dirichlet–Dirichlet) on a rigid
 // square-lattice strip, run through the real path: SceneSpec -> Simulation.
 //
 // The strip is `cells` disks long and kStripRows disks wide; the inlet reservoir (p1) and the

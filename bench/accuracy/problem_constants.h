@@ -1,5 +1,6 @@
 // The material every accuracy problem shares: lattice disks of 1 mm with a 10 um residual
-// aperture in water (physics.md §4.2 magnitudes), so that the problems differ only in geometry.
+// aperture in water (docs/physics.md §4.2 magnitudes), so that the problems differ only in
+// geometry.
 #pragma once
 
 namespace seep::bench {

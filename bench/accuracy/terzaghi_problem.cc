@@ -147,7 +147,7 @@ TerzaghiGrid DefaultTerzaghiGrid(bool full) {
 void RunTerzaghiGrid(const TerzaghiGrid& grid, std::vector<AccuracyRun>& rows) {
   const auto choices =
       TransientChoices(grid.explicit_dt_factors, grid.implicit_dt_factors, grid.cn_dt_factors);
-  // Exact lattice permeability a^3 / (24 R) (physics.md §1.3).
+  // Exact lattice permeability a^3 / (24 R) (docs/physics.md §1.3).
   const double k = kAperture * kAperture * kAperture / (24.0 * kRadius);
   const double Tv = grid.time_factor;
   for (const int cells : grid.cells) {

@@ -1,6 +1,6 @@
-// Terzaghi consolidation (physics.md §3.4) in its rigid-skeleton form, as a flow-only scene run
-// through the real path (SceneSpec -> Simulation): a square-lattice strip, `cells` disks along x
-// and kColumnRows wide, with a closed inlet (the low end is a no-flow base), the outlet reservoir
+// Terzaghi consolidation (docs/physics.md §3.4) in its rigid-skeleton form, as a flow-only scene
+// run through the real path (SceneSpec -> Simulation): a square-lattice strip, `cells` disks along
+// x and kColumnRows wide, with a closed inlet (the low end is a no-flow base), the outlet reservoir
 // at 0 Pa and every free domain starting at the excess pressure u0. With m_v = 0 (a rigid
 // skeleton: the storage is the fluid's compressibility alone) terzaghi.h gives
 //   c_v = k K_f / (mu n_s),  Tv = c_v t / H^2,  u/u0(z/H, Tv) and U(Tv),

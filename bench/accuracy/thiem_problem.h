@@ -1,5 +1,5 @@
-// Radial injection, steady (physics.md §3.3, V12): a hex lattice cut to an annulus, the central
-// hole held at p_w, the outer hull pipes to a reservoir at p_e = 0, against Thiem with the
+// Radial injection, steady (docs/physics.md §3.3, V12): a hex lattice cut to an annulus, the
+// central hole held at p_w, the outer hull pipes to a reservoir at p_e = 0, against Thiem with the
 // effective well radius r_w,eff fitted from the profile (the discrete hole is not its nominal
 // radius) and r_e the network's outer reservoir radius, as in tests/core/scene/
 // verification_thiem_test.cc. Error: the largest deviation of ring means (rings 2R wide) from

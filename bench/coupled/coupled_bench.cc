@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
   }
   met = BenchScene("consolidation (the Terzaghi column)", *column, options) && met;
   // The same column with the other factorization a user can choose for it
-  // (solver.linear_solver; AUTO was this one at the column's size until session 28): the example
+  // (solver.linear_solver: LINEAR_SOLVER_SIMPLICIAL_LDLT, Eigen's simplicial LDL^T): the example
   // keeps the default, CHOLMOD supernodal. Printed beside the example, not judged: the limits are
   // for the scenes as shipped.
   seep::v1::Scene column_simplicial = *column;

@@ -17,8 +17,8 @@
 // runs every scene with its fluid's bulk modulus one ulp higher (2.2e-16 of it): a change of
 // the input as small as one rounding, so the metric differences it prints are what any change
 // of rounding in the fluid passes (a summation order, a fused pass) may do to each example.
-// Coupled examples with contacts that open and close amplify it far beyond 1e-12 (session 28),
-// which is why the fluid passes keep their arithmetic bit for bit.
+// Coupled examples with contacts that open and close amplify it far beyond 1e-12 (the figures:
+// docs/performance.md §4), which is why the fluid passes keep their arithmetic bit for bit.
 #include <fmt/format.h>
 #include <omp.h>
 

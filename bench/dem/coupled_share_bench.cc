@@ -1,6 +1,6 @@
-// Benchmark: the flow's share of a coupled step (performance.md goal G6: aperture update, pressure
-// sweep and fluid forces on the disks, flow sub-stepped 1:1 with the DEM), on the shared settled
-// bed with the reference DEM settings (kn = 2e6, kt = 2/7 kn, gamma_n = 2000, friction 0.5,
+// Benchmark: the flow's share of a coupled step (docs/performance.md §4, goal G6: aperture update,
+// pressure sweep and fluid forces on the disks, flow sub-stepped 1:1 with the DEM), on the shared
+// settled bed with the reference DEM settings (kn = 2e6, kt = 2/7 kn, gamma_n = 2000, friction 0.5,
 // density 1, gravity 10, dt = 1e-4; side walls instead of the periodic x of the reference, which
 // scenes do not offer).
 //

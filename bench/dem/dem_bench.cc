@@ -1,8 +1,7 @@
-// Benchmark: throughput of the DEM mechanics on the shared settled bed, with the reference
-// settings of ../shared/bench/README.md (linear spring kn = 2e6, kt = 2/7 kn with shear history,
-// gamma_n = 2000, friction 0.5, floor at y = 0, periodic x, gravity 10 down, dt = 1e-4,
-// velocity-Verlet, density 1), compared with the LAMMPS figures of
-// ../shared/reference/performance.md §1.3 (measured on this machine type).
+// Benchmark: throughput of the DEM mechanics on the settled bed, with the reference settings of
+// bench/README.md (linear spring kn = 2e6, kt = 2/7 kn with shear history, gamma_n = 2000,
+// friction 0.5, floor at y = 0, periodic x, gravity 10 down, dt = 1e-4, velocity-Verlet,
+// density 1), compared with the LAMMPS figures of docs/performance.md §1.3.
 //
 // Usage: seep_dem_bench path/to/settled_bed_9900.txt [replication_along_x=1] [steps=2000]
 //                       [skin=0.1] [threads=12: "1", "2" or "12" for both]
@@ -119,7 +118,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", bed.status().ToString().c_str());
     return 1;
   }
-  // Replicate the 100-wide periodic bed along x (the 99,000-disk case of the README).
+  // Replicate the 100-wide periodic bed along x (the 99,000-disk case of bench/README.md).
   Packing packing;
   packing.Reserve(bed->size() * static_cast<std::size_t>(replicate));
   for (int c = 0; c < replicate; ++c) {
@@ -132,9 +131,9 @@ int main(int argc, char** argv) {
       "dem bench: %zu disks, box x [0, %.0f] periodic, %d timed steps after 200 warm-up, "
       "skin %.3g\n",
       packing.size(), lx, steps, skin);
-  // LAMMPS 1-core figures (performance.md §1.3): 1.09e7-1.20e7 at 9,900; 8.79e6 at 99,000.
-  // LAMMPS measured here in the same session ran faster (1.32e7 and 1.30e7, README): the ratio
-  // worth quoting comes from bench/dem/lammps/run_all.sh, which runs both.
+  // LAMMPS 1-core figures (docs/performance.md §1.3): 1.09e7-1.20e7 at 9,900; 8.79e6 at 99,000.
+  // Hosts differ by up to 2x: the ratio worth quoting comes from bench/dem/lammps/run_all.sh,
+  // which runs both in one session.
   const bool large = packing.size() > 50000;
   const double lammps_lo = large ? 8.79e6 : 1.09e7;
   const double lammps_hi = large ? 8.79e6 : 1.20e7;

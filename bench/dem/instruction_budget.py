@@ -2,7 +2,7 @@
 """The instructions a coupled step executes per effect (issue 19: flow share <= 25 % at 1:1).
 
 Runs seep_coupled_share_bench on one thread under valgrind's callgrind (no hardware counters
-needed: the 2-core VM has none) and prints, per DEM step of the settled bed, the instructions of
+needed: many virtual machines expose none) and prints, per DEM step of the settled bed, the instructions of
 each effect the stepper calls: the mechanics ones (called in both of the bench's runs) and the
 fluid ones (the coupled run only), with the exact-volume pass's edge terms apart. A flow share of
 25 % means the fluid effects take a third of the mechanics' time; if they ran at the mechanics'
@@ -13,7 +13,7 @@ examples' bits need (every coupled pass keeps its operations, see seep_example_s
 
 Usage: instruction_budget.py BENCH BED [--steps 300]
   BENCH  a Release build's bench/dem/seep_coupled_share_bench
-  BED    ../shared/bench/settled_bed_9900.txt
+  BED    bench/settled_bed_9900.txt
 Takes about 25 s at 300 steps (valgrind runs the bench some 50x slower).
 """
 import argparse

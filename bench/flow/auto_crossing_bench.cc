@@ -12,7 +12,7 @@
 // 100 to 90,000 unknowns. Prints, per system, the best time of each kind and the ratio
 // simplicial / supernodal (above 1: the supernodal kind is the faster), and per shape at how many
 // sizes from the current switch on each kind was the faster (a column's two kinds come within
-// this VM's noise of each other at some sizes). Asserts nothing.
+// a shared machine's noise of each other at some sizes). Asserts nothing.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// Flow solver figures on locality-ordered 2D lattices (performance.md G4, G5, G11). Prints
+// Flow solver figures on locality-ordered 2D lattices (docs/performance.md §4: G4, G5, G11). Prints
 // numbers; asserts nothing.
 //
 //   flow_bench [side=1000] [steps=40]
@@ -115,7 +115,7 @@ SweepFigure ExplicitSweep(int side, int steps, bool diagnostics, bool with_dv) {
 }
 
 // Eigen + CHOLMOD on the 5-point Dirichlet Laplacian of an n x n grid (RHS = 1), the anchor of
-// performance.md §1.6: analyse + factorise + solve, seconds.
+// docs/performance.md §1.6: analyse + factorise + solve, seconds.
 double CholmodLaplacian(int n, double* residual) {
   using Sp = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
   const int size = n * n;

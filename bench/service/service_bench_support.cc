@@ -28,7 +28,8 @@ std::shared_ptr<spdlog::logger> QuietLogger(const std::string& name) {
 
 namespace {
 
-// Water on a rigid lattice with the residual aperture only (README's demo scene, physics.md §1.3).
+// Water on a rigid lattice with the residual aperture only (examples/darcy_square_lattice,
+// docs/physics.md §1.3).
 void FillCommon(v1::Scene& scene, std::uint32_t columns, std::uint32_t rows) {
   auto* lattice = scene.mutable_packing()->mutable_lattice();
   lattice->set_kind(v1::LATTICE_KIND_SQUARE);

@@ -15,7 +15,8 @@ namespace {
 
 using json = nlohmann::json;
 
-// A steady 12 x 8 lattice: k = a0^3 / (24 R) exactly (physics.md §1.3), in well under a second.
+// A steady 12 x 8 lattice: k = a0^3 / (24 R) exactly (docs/physics.md §1.3), in well under a
+// second.
 constexpr const char* kQuickScene = R"pb(
   name: "cli-quick"
   packing { lattice { kind: LATTICE_KIND_SQUARE columns: 12 rows: 8 radius_m: 1e-3 } }

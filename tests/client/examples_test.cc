@@ -55,7 +55,7 @@ TEST_F(ClientExamples, Transient1dOutflowFollowsTheDiffusionSeries) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto job = Json({"show", JobIdFrom(run.output)});
   const auto& metrics = job["result"]["metrics"];
-  // physics.md §3.2 (a): q_out / q_steady = 1 + 2 sum (-1)^n exp(-n^2 pi^2 T) = 0.72292 at
+  // docs/physics.md §3.2 (a): q_out / q_steady = 1 + 2 sum (-1)^n exp(-n^2 pi^2 T) = 0.72292 at
   // T = c t / L^2 = 0.2. q_steady = k (H/L) p1 / mu with the sample's H = 3 x 2R (three rows of
   // domains) and L = 41 x 2R; k = a0^3 / (24 R).
   const double r = 1e-3;
@@ -64,8 +64,8 @@ TEST_F(ClientExamples, Transient1dOutflowFollowsTheDiffusionSeries) {
   const double ratio = metrics["outflow_m2_per_s"].get<double>() / steady;
   RecordProperty("outflow_ratio", std::to_string(ratio));
   // The network of 40 cells along x is measured at 0.72343 (0.07% above the series: spatial
-  // discretisation, physics.md §3.2 quotes 0.13% of p1 at T = 0.1 on 20 cells). 0.5% allows for
-  // a change of the explicit step count without hiding a wrong diffusivity (a wrong storage
+  // discretisation, docs/physics.md §3.2 quotes 0.13% of p1 at T = 0.1 on 20 cells). 0.5% allows
+  // for a change of the explicit step count without hiding a wrong diffusivity (a wrong storage
   // volume changes c by 1/n_s = 4.7x and the ratio by far more).
   EXPECT_NEAR(ratio, 0.72292, 0.005 * 0.72292) << "outflow " << metrics["outflow_m2_per_s"];
 }

@@ -5,7 +5,7 @@ inside the Python package, client/python, whose import needs numpy).
 
 It starts a real seepd on a free loopback port, submits a small square-lattice scene, polls GetJob
 until the job is SUCCEEDED, reads GetResult and checks the permeability against the exact value
-k = a0^3 / (24 R) (physics.md section 1.3). Exit code 0 = passed, 1 = failed, 77 = skipped (only
+k = a0^3 / (24 R) (docs/physics.md §1.3). Exit code 0 = passed, 1 = failed, 77 = skipped (only
 when python3-grpcio or python3-numpy is not installed; CTest reports it as skipped).
 """
 import argparse
@@ -25,7 +25,7 @@ from seep.v1 import job_service_pb2, job_service_pb2_grpc, scene_pb2
 from seepd_process import Seepd, SeepdError
 
 # 12 x 8 touching disks, R = 1 mm, a0 = 10 um: every pipe has aperture a0, so the permeability
-# along x is exactly a0^3 / (24 R) (the lattice test of physics.md 1.3).
+# along x is exactly a0^3 / (24 R) (the lattice test of docs/physics.md §1.3).
 SCENE = """
 name: "python-client-lattice"
 packing { lattice { kind: LATTICE_KIND_SQUARE columns: 12 rows: 8 radius_m: 1e-3 } }

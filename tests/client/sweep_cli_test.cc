@@ -13,7 +13,7 @@ namespace {
 using json = nlohmann::json;
 
 // The steady 12 x 8 lattice swept over 2 pressures x 3 residual apertures: k = a0^3 / (24 R)
-// exactly (physics.md §1.3), whatever the pressure.
+// exactly (docs/physics.md §1.3), whatever the pressure.
 constexpr const char* kProductSweep = R"pb(
   name: "cli-sweep"
   scene {

@@ -9,7 +9,7 @@
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../../.." && pwd)  # the repository
-BED=$ROOT/../shared/bench/settled_bed_9900.txt
+BED=$ROOT/bench/settled_bed_9900.txt
 SEEP=$ROOT/${BUILD:-build/check}/bench/dem/seep_dem_bench
 OUT=${1:-$ROOT/build/lammps_bench}
 RXS=${2:-1 10}

@@ -46,7 +46,7 @@ class Calibrator::Impl {
   // The a0 at which the affine estimate equals the target (the best reached if the cap or open
   // gaps keep it from getting there).
   Result<double> FirstGuess(double target) {
-    // Start from the square-lattice closed form a0 = (24 R k)^(1/3) (physics.md §1.3).
+    // Start from the square-lattice closed form a0 = (24 R k)^(1/3) (docs/physics.md §1.3).
     const double start = std::cbrt(24.0 * network_.mean_radius() * target);
     ApertureSearchOptions options;
     options.tolerance = kFirstGuessTolerance;

@@ -23,7 +23,7 @@ void AddPressureRange(const FlowNetwork& network, Metrics& m) {
   m["max_pressure_pa"] = range.max;
 }
 
-// The exact permeability of a rigid lattice with uniform aperture a (physics.md §1.3, L = 2R).
+// The exact permeability of a rigid lattice with uniform aperture a (docs/physics.md §1.3, L = 2R).
 std::optional<double> LatticePermeability(const SceneSpec& scene) {
   const auto* lattice = std::get_if<LatticePackingSpec>(&scene.packing.source);
   if (lattice == nullptr) return std::nullopt;

@@ -1,4 +1,4 @@
-// The effect registry: EffectSpec arm -> Effect object (design-anchors §5.4).
+// The effect registry: EffectSpec arm -> Effect object (docs/architecture.md §4).
 //
 // Adding an effect:
 //   1. a spec struct in spec/effect_spec.h, placed in the variant where its hooks must run;

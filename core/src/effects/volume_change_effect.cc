@@ -13,7 +13,7 @@ namespace seep::core {
 namespace {
 
 // dV of the domains [begin, end) (not scaled by the storage factor: the disks are rigid, so all of
-// a domain's volume change is pore volume, physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt -
+// a domain's volume change is pore volume, docs/physics.md §1.2, R2: dP = K_f/(n V_d) (sum q dt -
 // dV_d)); returns how many collapsed, branch-free.
 double VolumeChangeRange(std::ptrdiff_t begin, std::ptrdiff_t end, const double* __restrict before,
                          const double* __restrict after, const DomainRole* __restrict role,

@@ -1,5 +1,5 @@
 // Internal: the SPD pressure system shared by the backward-Euler and steady solvers
-// (physics.md §4.5):
+// (docs/physics.md §4.5):
 //
 //   A = diag(s) + L_ff,   L_ff(i,i) = sum_j C_ij (all neighbours), L_ff(i,j) = -C_ij (free j),
 //

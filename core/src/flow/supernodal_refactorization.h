@@ -5,7 +5,7 @@
 // mapping, copying, assembling, each with an `if` that is false on small supernodes), and
 // libgomp ends even a region of one thread with a futex wake-up system call. On a small system
 // those calls are most of the factorization (the Terzaghi column: 1.6 ms a step against 26 us
-// of mechanics on this VM). The plan replays the very arithmetic of
+// of mechanics on a 2-core VM). The plan replays the very arithmetic of
 // Supernodal/t_cholmod_super_numeric.c, in its order, with the same BLAS and LAPACK calls on the
 // same arrays, and leaves out only the bookkeeping: the linked lists of pending descendants and
 // the relative maps are the same at every factorization of a pattern, so they are worked out
@@ -16,7 +16,7 @@
 // (OwnKernels): the same arithmetic in one fixed order, so that the bits do not depend on the
 // BLAS the machine has (OpenBLAS chooses its kernels per CPU, and they round differently), and
 // without a BLAS call's fixed cost, which is most of a small supernode's. Larger patterns keep
-// OpenBLAS's blocked kernels (the README's known limitation).
+// OpenBLAS's blocked kernels (a known limitation: docs/architecture.md §5.3).
 #pragma once
 
 #include <Eigen/SparseCore>

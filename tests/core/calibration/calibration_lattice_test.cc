@@ -1,5 +1,5 @@
-// V4 (physics.md §5) through the calibration: on a lattice with no contact force every aperture
-// is a0, the affine estimate is the exact permeability (a linear pressure field solves the
+// V4 (docs/physics.md §5) through the calibration: on a lattice with no contact force every
+// aperture is a0, the affine estimate is the exact permeability (a linear pressure field solves the
 // network, scene_network.h), so the first guess is already the answer, a0 = (24 R k)^(1/3)
 // (square) or (24 sqrt3 R k)^(1/3) (hex), reached with one permeameter solve.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-// V6 (physics.md §5) and its generalisation: calibrating a0 on the seeded random packing of the
-// V06 scene test, with all pipes in compression (one cube-root correction is exact), over a sweep
-// of targets, and with open gaps (a = a0 + m g) where the search must iterate.
+// V6 (docs/physics.md §5) and its generalisation: calibrating a0 on the seeded random packing of
+// the V06 scene test, with all pipes in compression (one cube-root correction is exact), over a
+// sweep of targets, and with open gaps (a = a0 + m g) where the search must iterate.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -76,7 +76,7 @@ TEST(CalibrationRandomPacking, V6_CompressionNeedsOneCorrection) {
   EXPECT_LE(r.relative_error, kTolerance);
   EXPECT_EQ(r.iterations, 2);
   EXPECT_EQ(r.corrections, 1);
-  // physics.md §1.3/§5 V6: the affine first guess is an upper bound that aperture disorder and
+  // docs/physics.md §1.3/§5 V6: the affine first guess is an upper bound that aperture disorder and
   // the random geometry pull the network below by 10-30%.
   EXPECT_LT(r.first_guess_permeability_m2, target);
   EXPECT_GE(r.first_guess_relative_error, 0.10);

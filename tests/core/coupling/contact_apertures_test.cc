@@ -1,4 +1,4 @@
-// Pipe apertures from per-contact force and gap (physics.md §2.3, seed eqs. 2-3).
+// Pipe apertures from per-contact force and gap (docs/physics.md §2.3, seed eqs. 2-3).
 #include "seep/core/coupling/contact_apertures.h"
 
 #include <gtest/gtest.h>

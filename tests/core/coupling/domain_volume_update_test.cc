@@ -1,4 +1,4 @@
-// Domain volumes on a fixed topology from moved particles (physics.md §2.7 step 4) and dV.
+// Domain volumes on a fixed topology from moved particles (docs/physics.md §2.7 step 4) and dV.
 #include "seep/core/coupling/domain_volume_update.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// V14 (pressure forces, physics.md §5), the major-arc case of the chord rule (§2.5) and the bound
-// per-contact kernel.
+// V14 (pressure forces, docs/physics.md §5), the major-arc case of the chord rule (§2.5) and the
+// bound per-contact kernel.
 #include "seep/core/coupling/pressure_forces.h"
 
 #include <gtest/gtest.h>
@@ -58,8 +58,8 @@ std::vector<char> OnOuterLoop(const Detected& d) {
   return on;
 }
 
-// V14 on one packing. physics.md's tolerance is 1e-12 P R; the kernel sums the chord rule per
-// contact, as (pressure on one side - pressure on the other) x arm, so a uniform pressure gives
+// V14 on one packing. docs/physics.md §5's tolerance is 1e-12 P R; the kernel sums the chord rule
+// per contact, as (pressure on one side - pressure on the other) x arm, so a uniform pressure gives
 // exactly 0 on every wetted particle: the test asserts the bit, not the tolerance.
 void ExpectUniformPressureBalances(const Detected& d, const char* name,
                                    std::size_t min_domains = 10) {
@@ -253,7 +253,7 @@ TEST(PressureForces, MajorArcPushesParticleAwayFromVoid) {
 
 // The contact point with one division of selected operands (ContactFraction), and with no branch
 // at all (ContactFractionNoBranch, the vector loops' form), give the bits of the two rules written
-// out with branches, as physics.md §2.5 states them, on random pairs: equal and unequal radii,
+// out with branches, as docs/physics.md §2.5 states them, on random pairs: equal and unequal radii,
 // gaps, shallow and deep overlaps (clamped), coincident centres. Fails if a select picks the
 // other rule's operand or the clamp's order changes.
 TEST(PressureForces, ContactFractionIsTheTwoRulesBitForBit) {

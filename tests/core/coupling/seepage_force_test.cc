@@ -1,4 +1,4 @@
-// V15 (seepage force, physics.md §2.5, §5): a permeameter at steady state through the scene
+// V15 (seepage force, docs/physics.md §2.5, §5): a permeameter at steady state through the scene
 // pipeline (BuildSceneNetwork + steady solver), forces by the chord rule with the reservoirs
 // acting on the end faces.
 #include <gtest/gtest.h>
@@ -109,7 +109,7 @@ double EndFaceHeight(const Solved& s, bool inlet) {
 // Total fluid force on the skeleton along the flow = p_in H_in - p_out H_out. Each domain's
 // chords close, so the interior pressures cancel exactly and only round-off of the sum over
 // ~4 N chord terms of size p R remains: ~1e-15 p R sqrt(N) relative to (p_in - p_out) H. The
-// 1e-10 of physics.md is ample.
+// 1e-10 of docs/physics.md §5 is ample.
 void ExpectTotalSeepageForce(const SceneSpec& scene, double expected_height, const char* name) {
   SCOPED_TRACE(name);
   const Solved s = SolveAndApplyForces(scene);

@@ -1,4 +1,4 @@
-// Terzaghi consolidation reference (physics.md §3.4): the table of U(Tv) and u/u0, and the
+// Terzaghi consolidation reference (docs/physics.md §3.4): the table of U(Tv) and u/u0, and the
 // coupled parameters c_v and u0 with a compressible fluid.
 #include "seep/core/reference/terzaghi.h"
 
@@ -16,7 +16,7 @@ struct Row {
   double ratio[4];  // u/u0 at z/H = 0.25, 0.5, 0.75, 1.0
 };
 
-// physics.md §3.4, computed by research/scripts/tables.py.
+// docs/physics.md §3.4, computed by research/scripts/tables.py.
 constexpr Row kTable[] = {
     {0.008, 0.10093, {0.9519, 0.9999, 1.0000, 1.0000}},
     {0.02, 0.15958, {0.7887, 0.9876, 0.9998, 1.0000}},
@@ -75,7 +75,7 @@ TEST(Terzaghi, Limits) {
   EXPECT_NEAR(DegreeOfConsolidation(50.0), 1.0, 1e-15);
 }
 
-// physics.md §3.4, K_f-scaling table: k = 1e-12, mu = 1e-3, E_oed = 1e8, n_s = 0.2, H = 0.05.
+// docs/physics.md §3.4, K_f-scaling table: k = 1e-12, mu = 1e-3, E_oed = 1e8, n_s = 0.2, H = 0.05.
 // The printed values have 3 significant digits: tolerance half a unit of the last one.
 TEST(Terzaghi, CoupledParametersWithCompressibleFluid) {
   TerzaghiParameters p;

@@ -1,4 +1,4 @@
-// V17 (physics.md §3.4 and §5): Terzaghi consolidation of a DEM column, after Yade's
+// V17 (docs/physics.md §3.4 and §5): Terzaghi consolidation of a DEM column, after Yade's
 // FluidCouplingPFV/oedometer.py, without normalisation. A hex-lattice column between walls that
 // bound the fluid (impermeable base and sides, a drained porous top platen) takes a load step of
 // total stress on its servo-controlled top platen. The analytic side (terzaghi.h) is fed with
@@ -61,10 +61,10 @@ constexpr double kDrainedDtSafety = 0.2;
 constexpr double kLocalDamping = 0.3;
 constexpr double kServoMaxSpeed = 0.2;  // m/s: the load is on in ~1 ms, Tv ~ 0.02
 
-// Storage: n V_d (physics.md §1.2 reading (b), solver.storage_factor), the fluid's share of the
-// box with dV = the box's change. V_p would make the soft contacts' growing overlaps part of the
-// fluid's volume change (a compressible "grain": at this load their lenses take ~16 % of dV), which
-// Terzaghi's incompressible grains leave out; n = 0.14 is the walled column's own V_p / V_d.
+// Storage: n V_d (docs/physics.md §1.2 reading (b), solver.storage_factor), the fluid's share of
+// the box with dV = the box's change. V_p would make the soft contacts' growing overlaps part of
+// the fluid's volume change (a compressible "grain": at this load their lenses take ~16 % of dV),
+// which Terzaghi's incompressible grains leave out; n = 0.14 is the walled column's own V_p / V_d.
 constexpr double kStoragePorosity = 0.14;
 // The top platen: each stretch over a pore passes 1e-2 m^2/s per Pa per m, ~1e4 times a pipe of
 // the column, so the platen holds its pores at its 0 Pa like an ideal drain.
@@ -110,7 +110,7 @@ SceneSpec ColumnScene(double viscosity, double end_time_s) {
   s.solver.dt_factor = 1e6;  // the flow interval is then the DEM step
   s.solver.end_time_s = end_time_s;
   // AUTO: the test checks the size-chosen factorization against Terzaghi's solution (supernodal
-  // at this column's size since session 28, linear_solver_kind.h); every other scene here keeps
+  // at this column's size, linear_solver_kind.h); every other scene here keeps
   // the default.
   s.solver.linear_solver = LinearSolverKind::kAuto;
   s.effects = {Contacts(kCoupledDtSafety),
@@ -256,7 +256,7 @@ TEST(V17Terzaghi, ColumnConsolidatesAsTerzaghiPredicts) {
   }
 }
 
-// V20 (physics.md §5): undrained loading. A sealed sample (every wall impermeable) squeezed by
+// V20 (docs/physics.md §5): undrained loading. A sealed sample (every wall impermeable) squeezed by
 // four servo walls at the same total stress: the pore fluid takes the undrained share
 //   du/dsigma = (K_f/n) / (K_f/n + K),
 // K the 2D bulk modulus of the drained skeleton (dsigma over the area strain of the same load

@@ -1,6 +1,6 @@
-// V19 (physics.md §5, issue 15): a packing under gravity with no flow in or out. The fluid comes
-// to rest at p = rho_f g (h - y) at the domain centroids, nothing flows, and the fluid pushes the
-// particles up by rho_f g x their solid area (Archimedes). Also: a sealed column started at one
+// V19 (docs/physics.md §5, issue 15): a packing under gravity with no flow in or out. The fluid
+// comes to rest at p = rho_f g (h - y) at the domain centroids, nothing flows, and the fluid pushes
+// the particles up by rho_f g x their solid area (Archimedes). Also: a sealed column started at one
 // pressure relaxes to that state in every transient solver, conserving its fluid.
 //
 // Parameters unlike the examples: a brine (1180 kg/m^3) in a random column of 0.45-0.6 mm disks,

@@ -1,5 +1,5 @@
-// Walls in the fluid (physics.md §2.4 option B): the pores along walls are domains, the walls feel
-// their pressure, the servo holds total stress, drained walls pass fluid.
+// Walls in the fluid (docs/physics.md §2.4 option B): the pores along walls are domains, the walls
+// feel their pressure, the servo holds total stress, drained walls pass fluid.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Reference solutions for the 1D chain (physics.md §3.2), computed from their formulas.
+// Reference solutions for the 1D chain (docs/physics.md §3.2), computed from their formulas.
 #pragma once
 
 #include <cmath>
@@ -41,7 +41,7 @@ inline double ChainDiscreteExact(int n, int i, int steps, double dt, double kf, 
   return (1.0 - static_cast<double>(i) / n) - sum;
 }
 
-// The same for the theta method (physics.md §4.5): mode m is multiplied per step by
+// The same for the theta method (docs/physics.md §4.5): mode m is multiplied per step by
 // (1 - (1 - theta) dt lambda_m) / (1 + theta dt lambda_m); theta = 1 is kBackwardEuler, 1/2 is
 // kCrankNicolson.
 inline double ChainDiscreteTheta(int n, int i, int steps, double dt, double kf, double c, double v,

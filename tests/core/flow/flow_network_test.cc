@@ -353,7 +353,7 @@ TEST(FlowNetwork, SteadySeriesConductancesGiveHarmonicFlux) {
 
 TEST(FlowNetwork, SquareLatticePermeabilityByConstruction) {
   // (nx-1)(ny-1) square-cell domains of an nx x ny disk packing, L = 2R, C = a^3/(24 mu R),
-  // Dirichlet left/right columns, no flow top/bottom: k = a^3/(24 R) (physics.md §1.3).
+  // Dirichlet left/right columns, no flow top/bottom: k = a^3/(24 R) (docs/physics.md §1.3).
   const LatticeParams lp;
   const int nx = 31, ny = 17;
   const int mx = nx - 1, my = ny - 1;

@@ -14,7 +14,7 @@
 
 namespace seep::core::testing {
 
-// Equal disks of radius R, PFC pipe length L = 2R (physics.md §0, §1.3).
+// Equal disks of radius R, PFC pipe length L = 2R (docs/physics.md §0, §1.3).
 struct LatticeParams {
   double radius = 1e-3;         // R, m
   double viscosity = 1e-3;      // mu, Pa s

@@ -237,7 +237,7 @@ TEST(ReplayedFactorization, SolveGivesTheBitsOfOneColumnAtATime) {
 // The point of the own kernels: the same bits whatever kernels the BLAS picked for the CPU. The
 // same test binary, run again with OpenBLAS made to use its Nehalem kernels (this machine's are
 // Haswell's or newer), prints the hash of its answers' bits; it must be this run's. (On the BLAS
-// path the Terzaghi examples' hashes changed under this setting: session 24.)
+// path the Terzaghi examples' hashes change under this setting.)
 TEST(ReplayedFactorization, OwnKernelsGiveTheSameBitsWhateverKernelsTheBlasPicks) {
   if (std::getenv("SEEP_PRINT_SIDE60_HASH") != nullptr) {
     std::printf("side60-hash %llu\n", static_cast<unsigned long long>(Side60AnswersHash()));

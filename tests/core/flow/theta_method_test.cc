@@ -1,6 +1,6 @@
-// The theta option of ImplicitSolver (physics.md §4.5): Crank–Nicolson (theta = 1/2) against the
-// exact discrete solution of the 1D chain, its order in time next to backward Euler's on the 1D
-// transient diffusion problem (physics.md §3.2 case (a)), its fluid budget per step, and the
+// The theta option of ImplicitSolver (docs/physics.md §4.5): Crank–Nicolson (theta = 1/2) against
+// the exact discrete solution of the 1D chain, its order in time next to backward Euler's on the 1D
+// transient diffusion problem (docs/physics.md §3.2 case (a)), its fluid budget per step, and the
 // validation of theta.
 #include <gtest/gtest.h>
 
@@ -101,7 +101,7 @@ double TimeErrorAtT(double theta, double dt_over_crit, double T) {
   const LatticeParams lp;
   const double h = 2.0 * lp.radius;
   const double v = lp.SquarePoreVolume();
-  const double c = lp.bulk_modulus * lp.Conductance() * h * h / v;  // physics.md §3.2
+  const double c = lp.bulk_modulus * lp.Conductance() * h * h / v;  // docs/physics.md §3.2
   const double length = kN * h;
   const double t_end = T * length * length / c;
   const double dt = dt_over_crit * ChainDtCrit();
@@ -119,8 +119,8 @@ double TimeErrorAtT(double theta, double dt_over_crit, double T) {
   return worst;
 }
 
-// Observed order log2(e(dt)/e(dt/2)) on the 1D transient problem at T = 0.2 (physics.md §3.2 case
-// (a)), dt = 4, 2, 1, 0.5 dt_crit (= 0.005 .. 0.000625 L^2/c; T = 0.2 is 40 .. 320 steps).
+// Observed order log2(e(dt)/e(dt/2)) on the 1D transient problem at T = 0.2 (docs/physics.md §3.2
+// case (a)), dt = 4, 2, 1, 0.5 dt_crit (= 0.005 .. 0.000625 L^2/c; T = 0.2 is 40 .. 320 steps).
 // Leading error terms: BE dt lambda^2 t/2 e^{-lambda t}, CN dt^2 lambda^3 t/12 e^{-lambda t}, with
 // relative corrections O(lambda dt) ~ 0.05 for the slowest mode at 4 dt_crit. The orders must come
 // out within 0.1 of 1 and of 2: that allows the O(lambda dt) correction (it moves an order by

@@ -1,5 +1,5 @@
-// V07 chain vs the exact discrete solution, V08 chain vs the continuum series (physics.md §3.2,
-// §5).
+// V07 chain vs the exact discrete solution, V08 chain vs the continuum series (docs/physics.md
+// §3.2, §5).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -106,11 +106,11 @@ TEST(Verification, V08_ChainMatchesContinuumSeries) {
   const double h = 2.0 * lp.radius;
   const double v = lp.SquarePoreVolume();
   const double kf = lp.bulk_modulus;
-  // Network diffusivity c = K_f C h^2 / V_s = k K_f / (mu n_s) (physics.md §3.2).
+  // Network diffusivity c = K_f C h^2 / V_s = k K_f / (mu n_s) (docs/physics.md §3.2).
   const double c = kf * lp.Conductance() * h * h / v;
   const double n_s = v / (4.0 * lp.radius * lp.radius);
   EXPECT_NEAR(c, lp.permeability * kf / (lp.viscosity * n_s), 1e-9 * c);
-  // The series implementations reproduce the reference tables of physics.md §3.2.
+  // The series implementations reproduce the reference tables of docs/physics.md §3.2.
   EXPECT_NEAR(testing::SeriesDirichletDirichlet(0.5, 0.1), 0.26276, 5e-6);
   EXPECT_NEAR(testing::SeriesDirichletDirichlet(0.25, 0.02), 0.21130, 5e-6);
   EXPECT_NEAR(testing::SeriesDirichletNoFlow(0.75, 0.2), 0.28377, 5e-6);

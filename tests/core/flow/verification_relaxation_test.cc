@@ -1,4 +1,4 @@
-// V01 two-domain relaxation and V02 mass conservation (physics.md §5).
+// V01 two-domain relaxation and V02 mass conservation (docs/physics.md §5).
 #include <gtest/gtest.h>
 
 #include <cmath>

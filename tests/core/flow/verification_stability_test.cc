@@ -1,5 +1,5 @@
 // V10 explicit limit sharpness, V11 backward Euler at 100 dt_crit, V18 the dt formula
-// (physics.md §4.1, §5).
+// (docs/physics.md §4.1, §5).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -170,8 +170,8 @@ TEST(Verification, V18_CriticalStepFormula) {
       }
     }
   }
-  // Magnitude check against the reference table (physics.md §4.2): R = 1 mm, k = 1e-12, square,
-  // V_p: 1.07e-7 s; V_d: 5.0e-7 s (three significant figures).
+  // Magnitude check against the reference table (docs/physics.md §4.2): R = 1 mm, k = 1e-12,
+  // square, V_p: 1.07e-7 s; V_d: 5.0e-7 s (three significant figures).
   FlowNetwork sq = testing::MakeOrDie(testing::MakeSquareLatticeData(5, 5, lp));
   EXPECT_NEAR(ComputeCriticalTimeStep(sq, kf, {StorageVolume::kPore, 1.0})->dt_crit, 1.07e-7,
               0.005e-7);

@@ -1,5 +1,6 @@
 // V09 storage choice: with V_s = V_d instead of V_p every transient is slower by V_d/V_p = 1/n_s
-// (physics.md §1.2, §3.2): 4/(4 - pi) = 4.66 on square cells, sqrt3/(sqrt3 - pi/2) = 10.7 on hex.
+// (docs/physics.md §1.2, §3.2): 4/(4 - pi) = 4.66 on square cells, sqrt3/(sqrt3 - pi/2) = 10.7 on
+// hex.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
-// Verification V03 (physics.md §5): domains and pipes of regular lattices against closed forms,
-// and the conservation identities on a random packing.
+// Verification V03 (docs/physics.md §5): domains and pipes of regular lattices against closed
+// forms, and the conservation identities on a random packing.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
-// Domains closed by walls (physics.md §2.4 option B): the pores between walls and the particles
-// against them, against their closed-form areas on lattices in a box.
+// Domains closed by walls (docs/physics.md §2.4 option B): the pores between walls and the
+// particles against them, against their closed-form areas on lattices in a box.
 #include "seep/core/geometry/domain_walls.h"
 
 #include <gtest/gtest.h>

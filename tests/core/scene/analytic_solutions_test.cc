@@ -1,4 +1,5 @@
-// The closed-form references of analytic_solutions.h against the tables of physics.md §3.2–3.3.
+// The closed-form references of analytic_solutions.h against the tables of docs/physics.md
+// §3.2–3.3.
 #include "seep/core/reference/analytic_solutions.h"
 
 #include <gtest/gtest.h>
@@ -102,7 +103,7 @@ TEST(AnalyticSolutions, BoundaryAndLimitValues) {
 }
 
 TEST(AnalyticSolutions, ThiemMatchesPhysicsExample) {
-  // physics.md §3.3: r_w = 0.01, r_e = 1, p_w = 1e5, p_e = 0, k = 1e-12, mu = 1e-3.
+  // docs/physics.md §3.3: r_w = 0.01, r_e = 1, p_w = 1e5, p_e = 0, k = 1e-12, mu = 1e-3.
   EXPECT_NEAR(ThiemPressure(0.02, 0.01, 1.0, 1e5, 0.0), 84948.5, 0.05);
   EXPECT_NEAR(ThiemPressure(0.1, 0.01, 1.0, 1e5, 0.0), 50000.0, 1e-9);
   EXPECT_NEAR(ThiemPressure(0.5, 0.01, 1.0, 1e5, 0.0), 15051.5, 0.05);

@@ -55,8 +55,8 @@ TEST(SceneFields, ArraysMatchTheNetwork) {
   EXPECT_EQ(f.axis_name, "x");
 }
 
-// On a lattice a linear field satisfies Kirchhoff's law at every domain (physics.md §1.3), and the
-// reservoirs sit where the linear field reaches P_in and P_out (scene_network.h): the steady
+// On a lattice a linear field satisfies Kirchhoff's law at every domain (docs/physics.md §1.3), and
+// the reservoirs sit where the linear field reaches P_in and P_out (scene_network.h): the steady
 // solve reproduces it to the solver's round-off. 1e-12 of the pressure drop leaves the direct
 // solver's ~1e-15 relative residual three orders of room over a few hundred unknowns.
 TEST(SceneFields, SteadyLatticeMatchesTheLinearProfile) {
@@ -94,10 +94,10 @@ TEST(SceneFields, SteadyLatticeMatchesTheLinearProfile) {
 }
 
 // A square strip 40 cells long (a 1D chain of 39 domains) run by backward Euler to T = 0.1 from a
-// uniform initial pressure: the series of physics.md §3.2 with P_0 = 2e4 between P_in = 1e5 and
-// P_out = 0. What differs is the chain's spatial error O((h/L)^2) plus the time error of backward
-// Euler at dt_crit: measured 2.5e-4 of the drop, so 1e-3 bounds it while a wrong T (a factor n_s,
-// ~4.7, in c) or a wrong axis origin (half a cell) would be off by 1e-2 or more.
+// uniform initial pressure: the series of docs/physics.md §3.2 with P_0 = 2e4 between P_in = 1e5
+// and P_out = 0. What differs is the chain's spatial error O((h/L)^2) plus the time error of
+// backward Euler at dt_crit: measured 2.5e-4 of the drop, so 1e-3 bounds it while a wrong T (a
+// factor n_s, ~4.7, in c) or a wrong axis origin (half a cell) would be off by 1e-2 or more.
 TEST(SceneFields, TransientStripFollowsTheSeries) {
   SceneSpec scene = LatticeScene(LatticeKind::kSquare, 40, 3, FlowAxis::kX);
   scene.boundary.initial_pressure_pa = 2e4;

@@ -1,6 +1,6 @@
-// V6 (physics.md §5): calibrating the residual aperture a0 to a target permeability on a seeded
-// random packing whose contacts are all in compression, so every aperture is a0 F0/(F + F0) and
-// k is proportional to a0^3: the first guess comes from the affine estimate (C1), and one
+// V6 (docs/physics.md §5): calibrating the residual aperture a0 to a target permeability on a
+// seeded random packing whose contacts are all in compression, so every aperture is a0 F0/(F + F0)
+// and k is proportional to a0^3: the first guess comes from the affine estimate (C1), and one
 // correction a0 (k_target/k_measured)^(1/3) must then hit the target to solver precision.
 #include <gtest/gtest.h>
 
@@ -59,7 +59,7 @@ TEST(Verification, V06_AffineEstimateOnLattices) {
   const double radius = 1e-3;
   // Square, n columns of disks: m = n - 1 domain columns of area 4R^2 each, joined by m - 1
   // pipes per row with d = L = 2R, so sum d^2/L / (12 A) = (m - 1)/m / (24 R): the bulk value
-  // a^3/(24R) of physics.md §1.3 less the pipes outside the sample.
+  // a^3/(24R) of docs/physics.md §1.3 less the pipes outside the sample.
   const double square_bulk = 1.0 / (24.0 * radius);
   for (const std::uint32_t n : {30u, 120u}) {
     const double m = n - 1.0;

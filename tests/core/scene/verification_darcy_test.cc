@@ -1,5 +1,5 @@
-// V4 (lattice permeability) and V5 (Darcy linearity), physics.md §5, through the scene pipeline:
-// BuildSceneNetwork / RunScene with their reservoirs and Darcy length and width.
+// V4 (lattice permeability) and V5 (Darcy linearity), docs/physics.md §5, through the scene
+// pipeline: BuildSceneNetwork / RunScene with their reservoirs and Darcy length and width.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +20,7 @@ using scene_test::LatticeScene;
 using scene_test::Metric;
 using scene_test::RandomScene;
 
-// physics.md §1.3 with L = 2R.
+// docs/physics.md §1.3 with L = 2R.
 double SquareK() { return kAperture * kAperture * kAperture / (24.0 * kRadius); }
 double HexK() { return kAperture * kAperture * kAperture / (24.0 * std::sqrt(3.0) * kRadius); }
 

@@ -1,5 +1,5 @@
-// V16 (physics.md §2.6, §5): a contact between two domains is removed (the two domains merge) and
-// re-formed (the merged domain splits); RemapPressures carries the pressures across conserving
+// V16 (docs/physics.md §2.6, §5): a contact between two domains is removed (the two domains merge)
+// and re-formed (the merged domain splits); RemapPressures carries the pressures across conserving
 // the stored fluid sum V_s P.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The scene's storage model: the storage factor (physics.md §1.2 reading (b)): V_s = f x V_p
+// The scene's storage model: the storage factor (docs/physics.md §1.2 reading (b)): V_s = f x V_p
 // speeds the transient up by 1/f, so the diffusion series holds at T = c t / L^2 with
 // c = k K_f / (mu f n_s); and the volume floor (§4.4 remedy 1).
 #include <gtest/gtest.h>
@@ -32,7 +32,7 @@ SceneSpec DiffusionScene(double storage_factor, double end_time_s) {
   return s;
 }
 
-// q_out / q_steady = 1 + 2 sum (-1)^n exp(-n^2 pi^2 T) (physics.md §3.2 (a)).
+// q_out / q_steady = 1 + 2 sum (-1)^n exp(-n^2 pi^2 T) (docs/physics.md §3.2 (a)).
 double OutflowRatioSeries(double T) {
   double sum = 1.0;
   for (int n = 1; n <= 50; ++n) {
@@ -91,7 +91,7 @@ namespace {
 
 using scene_test::Metric;
 
-// The volume floor (physics.md §4.4 remedy 1) on a random packing, whose small pores set the
+// The volume floor (docs/physics.md §4.4 remedy 1) on a random packing, whose small pores set the
 // explicit step: dt_crit = min_i max(V_p,i, a <V_p>) / (K_f sum_j C_ij), computed here from the
 // network.
 TEST(Verification, StorageFloorLiftsTheCriticalStepOfSmallPores) {

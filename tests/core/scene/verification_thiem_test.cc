@@ -1,10 +1,11 @@
-// V12 (physics.md §3.3, §5): steady radial flow from a central borehole held at p_w to an outer
-// reservoir at p_e, against the Thiem solution
+// V12 (docs/physics.md §3.3, §5): steady radial flow from a central borehole held at p_w to an
+// outer reservoir at p_e, against the Thiem solution
 //   p(r) = p_w + (p_e - p_w) ln(r / r_w) / ln(r_e / r_w),  Q = 2 pi k (p_w - p_e) / (mu
 //   ln(r_e/r_w)).
-// The effective well radius r_w,eff of the discrete hole is fitted from the profile (physics.md
-// §3.3, DEM caveats); r_e is the outer reservoir's effective radius from the network; k is the
-// exact lattice value (hex) or the permeameter value of the same packing (random).
+// The effective well radius r_w,eff of the discrete hole is fitted from the profile
+// (docs/physics.md §3.3, DEM caveats); r_e is the outer reservoir's effective radius from the
+// network; k is the exact lattice value (hex) or the permeameter value of the same packing
+// (random).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -151,11 +152,11 @@ double WellRate(const SceneNetwork& net) {
   return q;
 }
 
-// V13 (physics.md §3.3, §5): a pressure step dp at the well of an initially uniform medium. The
-// dimensionless rate q_D = Q mu / (2 pi k dp) against the Stehfest table of
-// K1(sqrt s)/(sqrt s K0(sqrt s)) at t_D = c t / r_w^2, c = k K_f / (mu n_s), with the effective
-// well radius fitted from the steady Thiem profile of the same network (physics.md §3.3), and the
-// outer reservoir far enough that the front has not reached it ((r_e - r_w)^2 >> 4 c t).
+// V13 (docs/physics.md §3.3, §5): a pressure step dp at the well of an initially uniform medium.
+// The dimensionless rate q_D = Q mu / (2 pi k dp) against the Stehfest table of K1(sqrt s)/(sqrt s
+// K0(sqrt s)) at t_D = c t / r_w^2, c = k K_f / (mu n_s), with the effective well radius fitted
+// from the steady Thiem profile of the same network (docs/physics.md §3.3), and the outer reservoir
+// far enough that the front has not reached it ((r_e - r_w)^2 >> 4 c t).
 TEST(Verification, V13_RadialTransientConstantPressure) {
   const double k = kAperture * kAperture * kAperture / (24.0 * std::sqrt(3.0) * kRadius);
   SceneSpec scene = scene_test::LatticeScene(LatticeKind::kHex, 150, 175, FlowAxis::kX);
@@ -190,7 +191,7 @@ TEST(Verification, V13_RadialTransientConstantPressure) {
   struct Checkpoint {
     double t_d;
     double step_d;
-    double q_d;  // physics.md §3.3 table
+    double q_d;  // docs/physics.md §3.3 table
   };
   const Checkpoint checkpoints[] = {{10.0, 0.05, 0.53392}, {100.0, 0.5, 0.34556}};
   double t_d = 0.0;

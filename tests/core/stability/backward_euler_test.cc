@@ -1,4 +1,4 @@
-// Backward Euler at 100 x dt_crit on a heterogeneous lattice (physics.md §4.5, V11 extended):
+// Backward Euler at 100 x dt_crit on a heterogeneous lattice (docs/physics.md §4.5, V11 extended):
 // V11 (flow/verification_stability_test.cc) runs the uniform chain; here volumes and apertures
 // vary by up to 3x either way, so the M-matrix property is all that keeps it monotone. Starting
 // below the steady state, every increment P^{n+1} - P^n = A^-1 (S/dt)(P^n - P^{n-1}) stays >= 0

@@ -1,6 +1,6 @@
-// Extreme coefficients (physics.md §4.3): a crack whose apertures exceed their neighbours' by 1e2
-// and by 1e6 (conductances by 1e6 and 1e18), and sliver domains whose storage volume is 1e-12 of
-// the others'. The explicit governor must take the tiny step or refuse naming the domain that
+// Extreme coefficients (docs/physics.md §4.3): a crack whose apertures exceed their neighbours' by
+// 1e2 and by 1e6 (conductances by 1e6 and 1e18), and sliver domains whose storage volume is 1e-12
+// of the others'. The explicit governor must take the tiny step or refuse naming the domain that
 // forces it; backward Euler at the step of the unperturbed lattice must stay monotone and
 // conservative and end on the steady state.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The explicit governor around the critical step on a heterogeneous, non-bipartite network
-// (physics.md §4.1, S1). V10 (flow/verification_stability_test.cc) already shows on bipartite
+// (docs/physics.md §4.1, S1). V10 (flow/verification_stability_test.cc) already shows on bipartite
 // networks that 1.05 dt_crit grows and that kRefuse/kReduce stop it; here: the limit is the
 // exact minimum of V_s,i / (K_f sum_j C_ij) and names its domain, 0.99 dt_crit keeps the maximum
 // principle and the fluid budget on an irregular network, a refusal leaves the state untouched and

@@ -1,5 +1,5 @@
-// Injection at a high rate into a closed network (issue 7; physics.md §1.2, R1): nothing leaves,
-// so the storage-weighted mean pressure rises exactly as
+// Injection at a high rate into a closed network (issue 7; docs/physics.md §1.2, R1): nothing
+// leaves, so the storage-weighted mean pressure rises exactly as
 //
 //   d/dt (sum V_s P / sum V_s) = K_f Q / sum V_s,
 //

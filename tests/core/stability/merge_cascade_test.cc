@@ -1,4 +1,4 @@
-// A cascade of bond breaks that merges many domains in one re-detection (physics.md §2.6, V16
+// A cascade of bond breaks that merges many domains in one re-detection (docs/physics.md §2.6, V16
 // generalised): RemapPressures must conserve the stored fluid sum V_s P and the storage sum V_s
 // to rounding, and give every new domain a pressure inside the range of the old ones it covers
 // (a volume-weighted mean cannot leave it).

@@ -1,5 +1,5 @@
 // Real water (K_f = 2.2e9 Pa) on fine grains: the explicit critical step (about 2e-10 s here) lies
-// four decades below a DEM step of 1e-6 s (physics.md §4.2-4.3). The explicit solver must
+// four decades below a DEM step of 1e-6 s (docs/physics.md §4.2-4.3). The explicit solver must
 // sub-cycle (Advance) or reduce (kReduce) and stay bounded and conservative; backward Euler must
 // take the whole DEM step at once and stay monotone.
 #include <gtest/gtest.h>
@@ -24,7 +24,7 @@ using stability::FluidLedger;
 using stability::kMassTolerance;
 
 using stability::kWater;
-constexpr double kDemStep = 1e-6;    // s, a typical mechanical step (physics.md §4.2)
+constexpr double kDemStep = 1e-6;    // s, a typical mechanical step (docs/physics.md §4.2)
 constexpr double kStiffInlet = 1e6;  // Pa
 constexpr int kColumns = 12;
 constexpr int kRows = 10;

@@ -140,7 +140,7 @@ TEST_F(ExportE2e, ExportWritesVtkAndCsvThatLoadBack) {
             std::string::npos)
       << r.output;
 
-  // The same state as CSV: the pressures follow the series of physics.md §3.2 at T = 0.2. The
+  // The same state as CSV: the pressures follow the series of docs/physics.md §3.2 at T = 0.2. The
   // explicit chain of 40 cells at 0.9 dt_crit measures 7.3e-5 of the drop; 1e-3 leaves room for
   // another build's round-off, while a wrong time or axis origin would be off by 1e-2 or more.
   const std::filesystem::path csv_dir = dir_ / "csv";

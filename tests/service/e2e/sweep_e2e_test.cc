@@ -9,7 +9,8 @@
 namespace seep::testing {
 namespace {
 
-// A steady 12 x 8 lattice: k = a0^3 / (24 R) exactly (physics.md §1.3), in well under a second.
+// A steady 12 x 8 lattice: k = a0^3 / (24 R) exactly (docs/physics.md §1.3), in well under a
+// second.
 v1::Scene QuickScene() {
   v1::Scene scene;
   EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A one-node Slurm cluster for the `slurm` tests (../shared/reference/slurm-one-node.md's recipe),
+# A one-node Slurm cluster for the `slurm` tests (the recipe of docs/guide/slurm.md, "Testing"),
 # kept inside DIR: its slurm.conf, state, spool, logs and pid files, so that nothing under /etc is
 # written and a test run leaves no daemon behind (stop). MUNGE is the system's: started if it is
 # not running, its key created if missing.

@@ -103,7 +103,7 @@ class CalibrationStoreTest : public ::testing::Test {
 
 TEST_F(CalibrationStoreTest, ASweepOfFiveTargetsStoresFiveRecords) {
   // A real calibration: a 10 x 6 square lattice of 1 mm disks, a = a0 on every pipe (unloaded,
-  // no gaps), where k = a0^3 / (24 R) exactly (physics.md §1.3).
+  // no gaps), where k = a0^3 / (24 R) exactly (docs/physics.md §1.3).
   core::CalibrationSpec spec;
   spec.scene.packing.source = core::LatticePackingSpec{core::LatticeKind::kSquare, 10, 6, 1e-3};
   spec.scene.fluid = {1e-3, 2.2e9};

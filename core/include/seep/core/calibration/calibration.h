@@ -1,4 +1,4 @@
-// Residual-aperture calibration (physics.md §1.3, issue #6): the a0 that makes a steady
+// Residual-aperture calibration (docs/physics.md §1.3, issue #6): the a0 that makes a steady
 // permeameter on a packing measure a target permeability.
 //
 // Per target:

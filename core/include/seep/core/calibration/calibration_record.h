@@ -1,6 +1,7 @@
 // CalibrationRecord: the outcome of calibrating the residual aperture to one target permeability,
 // with everything needed to reproduce or judge it (the packing, fluid, aperture law, stress state
-// and flow direction it holds for, and how good the affine first guess of physics.md (C1) was).
+// and flow direction it holds for, and how good the affine first guess of docs/physics.md §1.3 (C1)
+// was).
 #pragma once
 
 #include <cstddef>
@@ -54,8 +55,9 @@ struct CalibrationRecord {
   int iterations = 0;
   int corrections = 0;
 
-  // The first guess: a0 from the affine estimate (physics.md (C1), evaluated on this packing's
-  // pipes with the aperture law and stress state), and what the permeameter measured with it.
+  // The first guess: a0 from the affine estimate (docs/physics.md §1.3 (C1), evaluated on this
+  // packing's pipes with the aperture law and stress state), and what the permeameter measured with
+  // it.
   double first_guess_residual_aperture_m = 0.0;
   double first_guess_permeability_m2 = 0.0;
   double first_guess_relative_error = 0.0;

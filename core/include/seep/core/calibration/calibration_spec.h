@@ -1,4 +1,4 @@
-// CalibrationSpec: what a residual-aperture calibration needs (physics.md §1.3, issue #6).
+// CalibrationSpec: what a residual-aperture calibration needs (docs/physics.md §1.3, issue #6).
 //
 // A calibration finds the residual aperture a0 of the aperture law (seed eqs. 2-3) that makes a
 // steady permeameter on a given packing, fluid and stress state measure a target permeability k.

@@ -1,5 +1,5 @@
-// Buoyancy: the part of the pore-fluid force that the fluid's weight adds (README "Fluid
-// weight").
+// Buoyancy: the part of the pore-fluid force that the fluid's weight adds
+// (docs/guide/fluid-weight.md).
 //
 // With weight w = rho_f g (Pa/m) the fluid of each face is at rest within the face, so the
 // pressure on its arcs is linear: p(x) = Phi_F + w.x, Phi_F = P_F - w.x_F the face's head. The

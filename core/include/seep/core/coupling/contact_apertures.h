@@ -1,5 +1,5 @@
-// Pipe apertures from the contacts' mechanical state, every coupled step (physics.md §2.3, §2.7
-// step 2): a = Aperture(law, F, g) of flow/aperture_law.h (seed eqs. 2-3), C = a^3/(12 mu L).
+// Pipe apertures from the contacts' mechanical state, every coupled step (docs/physics.md §2.3,
+// §2.7 step 2): a = Aperture(law, F, g) of flow/aperture_law.h (seed eqs. 2-3), C = a^3/(12 mu L).
 //
 // A flow pipe stands for one contact. The updater is bound once per topology to the map
 // pipe -> contact id (the index into the per-contact force and gap arrays the DEM provides);

@@ -1,4 +1,5 @@
-// Where two disks of a loop meet: the contact point on their line of centres (physics.md §2.5).
+// Where two disks of a loop meet: the contact point on their line of centres (docs/physics.md
+// §2.5).
 //
 //   gap >= 0 (touching or apart): halfway across the gap, r_a + g/2 from centre a;
 //   overlap (gap < 0):            on the radical line (the common chord of the two circles).

@@ -1,5 +1,5 @@
-// Domain volumes from the current particle positions, on a fixed topology (physics.md §2.7 step
-// 4), and the volume change per domain for the dV term of the pressure update (eq. 4 / R1).
+// Domain volumes from the current particle positions, on a fixed topology (docs/physics.md §2.7
+// step 4), and the volume change per domain for the dV term of the pressure update (eq. 4 / R1).
 //
 // The loops of a DomainNetwork stay valid while the contacts that bound them persist, so between
 // re-detections V_d and V_p are recomputed from the loops alone, with the formulas of

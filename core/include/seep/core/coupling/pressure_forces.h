@@ -1,4 +1,4 @@
-// Pressure -> particle forces by the chord rule (physics.md §2.5).
+// Pressure -> particle forces by the chord rule (docs/physics.md §2.5).
 //
 // A face (domain or outer face) touches particle k of its loop along the arc between the contact
 // points c_{k-1,k} and c_{k,k+1} (contact_point.h). The exact force of a uniform pressure P on

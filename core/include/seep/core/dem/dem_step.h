@@ -1,5 +1,5 @@
 // A reference composition of the DEM pieces into one mechanical step, for the tests, the
-// benchmark and as the order the step loop should follow (physics.md §2.7 item 7: force-
+// benchmark and as the order the step loop should follow (docs/physics.md §2.7 item 7: force-
 // displacement, then the law of motion). It is not a simulation driver: the step loop owns the
 // particles, walls and contact forces and may interleave its own effects (pore pressure forces,
 // servos) between ComputeDemForces and the second half-kick.

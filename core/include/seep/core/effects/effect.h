@@ -1,5 +1,5 @@
-// Effect: one physics contribution to the step loop (design-anchors §5.4, after LAMMPS fixes and
-// their setmask()).
+// Effect: one physics contribution to the step loop (docs/architecture.md §4, after LAMMPS fixes
+// and their setmask()).
 //
 // An effect says once, through Hooks(), which points of the step it needs; the loop builds one
 // list per hook at set-up and never rebuilds it, so an effect that is absent costs nothing and

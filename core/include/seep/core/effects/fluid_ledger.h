@@ -1,5 +1,5 @@
 // FluidLedger: the run's cumulative fluid books, m^2 per m of thickness at the reference
-// density, from the start of the run (physics.md §1.2). The flow effect adds every update's
+// density, from the start of the run (docs/physics.md §1.2). The flow effect adds every update's
 // tally (flow/fluid_tally.h), the re-detection effect what each re-detection created or
 // destroyed; checkpoints carry it, so a resumed run's books are the uninterrupted run's.
 //

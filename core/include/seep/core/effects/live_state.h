@@ -1,5 +1,5 @@
-// LiveState: the live scene the effects act on, owned by the Stepper (design-anchors §5.3, after
-// OpenMM's Context: the context owns live data, a snapshot is a value).
+// LiveState: the live scene the effects act on, owned by the Stepper (docs/architecture.md §3,
+// after OpenMM's Context: the context owns live data, a snapshot is a value).
 //
 // It holds only what several effects share: the particles, walls and DEM contact table, the
 // current network and the positions it was detected from, the step's fluid books and the work

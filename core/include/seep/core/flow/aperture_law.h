@@ -1,9 +1,10 @@
-// Hydraulic aperture of a contact pipe from its mechanical state (physics.md §2.3, seed eqs. 2-3),
-// and the cubic-law conductance (seed eq. 1).
+// Hydraulic aperture of a contact pipe from its mechanical state (docs/physics.md §2.3, seed eqs.
+// 2-3), and the cubic-law conductance (seed eq. 1).
 //
 //   F > 0 (compressive normal force, N per m):  a = a0 F0 / (F + F0)        (eq. 2)
 //   F <= 0 (zero or tensile), gap g >= 0 (m):    a = a0 + m g                 (eq. 3)
-//   optional clamp a <= a_max (a physics change: document it when used, physics.md §4.4 item 6).
+//   optional clamp a <= a_max (a physics change: document it when used, docs/physics.md §4.4 item
+//   6).
 // Both branches give a0 at F = g = 0, so the law is continuous there. In the compressive branch
 // the gap is ignored (a compressed contact has no gap).
 #pragma once
@@ -16,7 +17,7 @@
 namespace seep::core {
 
 struct ApertureLaw {
-  double residual_aperture = 0.0;  // a0, m (> 0); calibrate from k with physics.md (C1).
+  double residual_aperture = 0.0;  // a0, m (> 0); calibrate from k, docs/physics.md §1.3.
   double reference_force = 1.0;    // F0, N per m (> 0): the force that halves the aperture.
   double gap_multiplier = 0.0;     // m, dimensionless (>= 0).
   double max_aperture = std::numeric_limits<double>::infinity();  // a_max, m (>= a0).

@@ -1,4 +1,4 @@
-// ExplicitSolver: the PFC-style forward update (seed eq. 4, physics.md R1/R2),
+// ExplicitSolver: the PFC-style forward update (seed eq. 4, docs/physics.md §1.2),
 //
 //   P_i += (K_f / V_s,i) (dt (sum_j C_ij (P_j - P_i - o_ij) + Q_src,i) - dV_i)   non-fixed i,
 //
@@ -15,7 +15,7 @@
 // inflow accumulator) and one pass over domains (update, reset the accumulator). With diagnostics
 // off and no dV that moves 16 B per pipe + 40 B per domain (about 36-40 B per pipe on a 2D
 // packing). Number domains and pipes for locality (e.g. row-major): random numbering is 4-8x
-// slower at 1e6 pipes (performance.md §1.2).
+// slower at 1e6 pipes (docs/performance.md §1.2).
 //
 // Threads (from kMinParallelItems domains): each thread's contiguous share of the domains passes
 // over the pipes touching it in pipe order and adds to its own domains only, then updates them;
@@ -73,7 +73,7 @@ class ExplicitSolver {
                               std::span<const double> volume_change = {},
                               FluidTally* tally = nullptr);
 
-  // Fluid sub-cycling (physics.md §4.4 item 2): advances by exactly `duration` seconds in
+  // Fluid sub-cycling (docs/physics.md §4.4 item 2): advances by exactly `duration` seconds in
   // n = ceil(duration / (safety * dt_crit)) equal steps, spreading volume_change (dV over the whole
   // duration, per domain, empty = rigid) evenly over them. Conductances and volumes are held fixed.
   // The policy does not apply: every sub-step is within the limit by construction.

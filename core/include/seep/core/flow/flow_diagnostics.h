@@ -1,5 +1,5 @@
 // Read-only measurements on a network at its current pressures: boundary fluxes, the fluid mass
-// proxy, pressure range, and the Darcy permeability of a permeameter run (physics.md §3.1).
+// proxy, pressure range, and the Darcy permeability of a permeameter run (docs/physics.md §3.1).
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // FlowNetwork: the pipe network the pressure solvers work on, as plain structure-of-arrays.
 //
 // It knows nothing about particles or geometry: the scene glue maps detected domains and contacts
-// onto these arrays (physics.md §2.1). Units are SI per unit thickness.
+// onto these arrays (docs/physics.md §2.1). Units are SI per unit thickness.
 //
 // Domains (index d in [0, num_domains)):
 //   apparent_volume[d]  V_d, m^2: polygon area through the particle centres.
@@ -17,10 +17,10 @@
 //   pipe_aperture[p]    a, m (aperture_law.h).
 //   pipe_conductance[p] C = a^3/(12 mu L), m^2/(Pa s); q = C (P_b - P_a) flows from b into a.
 //   pipe_head_offset[p] rho_f g.(x_b - x_a), Pa: the hydrostatic pressure difference between the
-//                       pipe's two ends when the fluid has weight (README "Fluid weight"). The flow
-//                       is then driven by the head, q = C (P_b - P_a - offset): fluid at rest under
-//                       gravity has P_b - P_a = offset and moves nowhere. Empty (the default) =
-//                       no fluid weight, and every solver runs exactly the weightless code.
+//                       pipe's two ends when the fluid has weight (docs/guide/fluid-weight.md). The
+//                       flow is then driven by the head, q = C (P_b - P_a - offset): fluid at rest
+//                       under gravity has P_b - P_a = offset and moves nowhere. Empty (the default)
+//                       = no fluid weight, and every solver runs exactly the weightless code.
 //
 // Boundary reservoirs are ordinary domains with role kFixedPressure; their volumes may be 0 (they
 // store nothing and are never updated). A pipe from an interior domain to such a node carries the

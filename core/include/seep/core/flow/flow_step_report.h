@@ -1,7 +1,7 @@
 // What one pressure step did: the step size actually taken, the explicit limit, and (when
 // diagnostics are on) the fluid budget of the step.
 //
-// Mass balance of a step (physics.md §1.2, R1, summed over non-fixed domains):
+// Mass balance of a step (docs/physics.md §1.2, R1, summed over non-fixed domains):
 //   stored_change = sum_i V_s,i (P_i^{n+1} - P_i^n) / K_f                              [m^2]
 //   expected      = dt (boundary_inflow + source_inflow) - volume_change                [m^2]
 //   mass_balance_error = |stored_change - expected| / scale, relative to the stored excess fluid

@@ -1,4 +1,4 @@
-// ImplicitSolver: the theta method on the pipe network (physics.md §4.5): backward Euler
+// ImplicitSolver: the theta method on the pipe network (docs/physics.md §4.5): backward Euler
 // (theta = 1, the default) or Crank–Nicolson (theta = 1/2). For every non-fixed domain i
 //
 //   (V_s,i/K_f)(P_i^{n+1} - P_i^n)/dt = theta F_i(P^{n+1}) + (1 - theta) F_i(P^n)

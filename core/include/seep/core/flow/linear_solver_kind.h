@@ -10,7 +10,7 @@ enum class LinearSolverKind {
   // Eigen's SimplicialLDLT below kSupernodalMinUnknowns unknowns, CHOLMOD supernodal from there
   // on (a scene asks for it with solver.linear_solver AUTO; its default is kCholmodSupernodal),
   // chosen at each symbolic analysis (a function of the system, so of the scene: runs stay
-  // deterministic). Tiny systems only since session 28: with the replayed refactorization
+  // deterministic). Tiny systems only: with the replayed refactorization
   // (supernodal_refactorization.h) the supernodal kind's step costs less than the simplicial
   // one's from about 200 unknowns (seep_auto_crossing_bench).
   kAuto,
@@ -23,13 +23,9 @@ enum class LinearSolverKind {
   kEigenSimplicialLdlt,
 };
 
-// Where kAuto switches to CHOLMOD supernodal, from seep_auto_crossing_bench (one refactorization
-// of new values and one solve, one thread, session 28, two runs): at 100 unknowns the two kinds
-// cost the same (0.78-1.10x), at about 200 the supernodal one is 1.07-1.34x faster; on square
-// grids 1.2-1.3x at 400 and 1.9-3.6x from 3,000 on, on a column 12 wide 1.2-1.3x (0.95-1.07x at
-// 90,000, within noise).
-// (Before the replay, CHOLMOD's own numeric factorization paid per supernode, and the switch
-// was 20,000.)
+// Where kAuto switches to CHOLMOD supernodal: the size from which seep_auto_crossing_bench (one
+// refactorization of new values and one solve, one thread) finds the supernodal kind the faster;
+// the figures are in docs/performance.md §3.
 inline constexpr std::int64_t kSupernodalMinUnknowns = 200;
 
 // The concrete kind a solver of that kind uses for a system of `unknowns` unknowns.

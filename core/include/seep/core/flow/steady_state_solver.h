@@ -1,5 +1,5 @@
-// SteadyStateSolver: the storage-free limit of the pressure equation (physics.md §3.1, §4.4 item
-// 7),
+// SteadyStateSolver: the storage-free limit of the pressure equation (docs/physics.md §3.1, §4.4
+// item 7),
 //
 //   sum_j C_ij (P_j - P_i) + Q_src,i = 0   for every non-fixed domain i,
 //

@@ -1,6 +1,6 @@
 // Per-domain storage volume V_s = max(factor * (V_d or V_p), floor), the volume in the denominator
-// of the pressure update (physics.md §1.2, R1/R2). Fixed-pressure domains store nothing the solvers
-// use; every other domain must have V_s > 0 or its pressure update is undefined.
+// of the pressure update (docs/physics.md §1.2, R1/R2). Fixed-pressure domains store nothing the
+// solvers use; every other domain must have V_s > 0 or its pressure update is undefined.
 #pragma once
 
 #include <span>
@@ -28,7 +28,7 @@ inline double StorageVolumeOf(const FlowNetwork& network, const StorageModel& st
 }
 
 // V_s for every domain. Fails with InvalidArgument naming the domain when a free or source domain
-// has V_s <= 0 (a sliver or an unset volume without a floor, physics.md §4.4).
+// has V_s <= 0 (a sliver or an unset volume without a floor, docs/physics.md §4.4).
 Result<std::vector<double>> ComputeStorageVolumes(const FlowNetwork& network,
                                                   const StorageModel& storage);
 // The same into *out, which keeps its allocation from call to call (a solver's per-step refresh).

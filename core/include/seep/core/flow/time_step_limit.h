@@ -1,4 +1,4 @@
-// The explicit critical time step (physics.md §4.1, S1), general form of seed eq. 5:
+// The explicit critical time step (docs/physics.md §4.1, S1), general form of seed eq. 5:
 //
 //   dt_i = V_s,i / (K_f sum_j C_ij)   for every non-fixed domain i (pipes to fixed nodes count),
 //   dt_crit = min_i dt_i.

@@ -1,5 +1,5 @@
 // Domain detection: the fluid domains (closed loops of particles) and pipes of a PFC-style
-// pipe network, found as the faces of the planar contact graph (physics.md §2.2).
+// pipe network, found as the faces of the planar contact graph (docs/physics.md §2.2).
 //
 // Graph: vertices are particle centres; edges are the contacts of the input ContactList whose
 // gap <= DomainDetectionOptions::max_gap. The algorithm:
@@ -52,10 +52,10 @@
 // count on, radius 0) and wall edges (ids from the contact count on); loops, outer walks, pipes
 // and boundary pipes then name them like particles and contacts, and `walls` says what they are.
 //
-// Not done here (left to the scene, physics.md §2.6): merging tiny domains, periodic boundaries,
-// mapping pressures across a re-detection. Faces of a
-// non-planar embedding (big overlaps crossing other edges) still give a valid, deterministic
-// network, but a domain can then have V_d <= 0; `num_nonpositive_domains` counts them.
+// Not done here (left to the scene, docs/physics.md §2.6): merging tiny domains, periodic
+// boundaries, mapping pressures across a re-detection. Faces of a non-planar embedding (big
+// overlaps crossing other edges) still give a valid, deterministic network, but a domain can then
+// have V_d <= 0; `num_nonpositive_domains` counts them.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// Walls in the contact graph (physics.md §2.4, option B): the pores between a wall and the
+// Walls in the contact graph (docs/physics.md §2.4, option B): the pores between a wall and the
 // particles against it become domains closed by the wall.
 //
 // A wall is a straight line with a unit normal pointing into the sample; the detection uses a

@@ -1,5 +1,5 @@
 // Local re-detection: the domain network of a contact graph kept up to date as contacts break
-// and form, by re-tracing only the faces beside the changed contact (physics.md §2.2; the
+// and form, by re-tracing only the faces beside the changed contact (docs/physics.md §2.2; the
 // algorithm and conventions are DomainDetector's, domain_detection.h).
 //
 // A DomainDetector rebuilds every face: O(particles) per topology change. Here the graph is held

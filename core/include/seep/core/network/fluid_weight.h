@@ -1,5 +1,5 @@
 // Fluid weight on a scene's network: the head term of the pipes, the hydrostatic start and the
-// reference points they are measured at (README, "Fluid weight").
+// reference points they are measured at (docs/guide/fluid-weight.md).
 //
 // The model. With a density rho_f and a gravity effect g, w = rho_f g (Pa/m) and the fluid of
 // every face is at rest within the face: p(x) = P_n + w.(x - x_n), P_n the node's pressure at its

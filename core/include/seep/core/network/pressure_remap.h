@@ -1,6 +1,6 @@
-// Pressure remap across a re-detection of the domains (physics.md §2.6): when contacts are lost or
-// formed, the faces of the contact graph merge or split, and the pressures of the old domains are
-// carried onto the new ones conserving the stored fluid.
+// Pressure remap across a re-detection of the domains (docs/physics.md §2.6): when contacts are
+// lost or formed, the faces of the contact graph merge or split, and the pressures of the old
+// domains are carried onto the new ones conserving the stored fluid.
 //
 // Matching. Both networks must come from the same particles (particle ids unchanged). A domain is
 // identified by the directed contacts of its loop: half-edge i -> j of a loop has the domain on its

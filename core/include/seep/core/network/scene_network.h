@@ -3,7 +3,7 @@
 // packing -> contacts (gap <= contact_gap_m, plus a round-off tolerance) -> domains and pipes
 // (faces of the contact graph) -> FlowNetwork. Node ids of the FlowNetwork are the domain ids of
 // the detection, followed by two reservoir nodes with fixed pressure: the inlet at the low end of
-// the flow axis and the outlet at the high end (physics.md §2.4, option A). A contact on the
+// the flow axis and the outlet at the high end (docs/physics.md §2.4, option A). A contact on the
 // sample's outer loop whose two particles both lie in the edge layer at one end (their extreme
 // coordinate within one mean radius of the sample's end) becomes a pipe from the domain beside it
 // to that end's reservoir. The other hull contacts are no-flow.
@@ -15,7 +15,7 @@
 // mean distance from the well centre of the interior centroids reflected through the hull contact
 // points.
 //
-// Walls (physics.md §2.4 option B): with a walls effect the pores along the walls are domains
+// Walls (docs/physics.md §2.4 option B): with a walls effect the pores along the walls are domains
 // closed by them (domain_walls.h). A foot (particle-wall contact) carries a pipe like a contact;
 // a stretch of an impermeable wall carries none, a stretch of a drained wall is a pipe of
 // conductance drain.conductance x its length at detection into that wall's reservoir node (one
@@ -36,8 +36,8 @@
 //              coordinate through the reservoirs as well as the domains;
 //   width_m    area of the domains divided by the distance between the mean contact points of
 //              the outlet and inlet hull pipes (the two faces of the flow region).
-// On lattices these make k exact (physics.md §1.3): square a^3/(24R) along x and y (reservoirs at
-// the particles' outer surfaces, faces through the edge centres); hex a^3/(24 sqrt3 R) along x,
+// On lattices these make k exact (docs/physics.md §1.3): square a^3/(24R) along x and y (reservoirs
+// at the particles' outer surfaces, faces through the edge centres); hex a^3/(24 sqrt3 R) along x,
 // where the zig-zag ends put the reservoirs half a radius inside the faces' mean line and a band
 // of triangles spans 2(columns-1)R. Along y a hex lattice has zig-zag no-flow sides, which a
 // linear field does not satisfy, so k there carries a side-wall error of order R/H. On random

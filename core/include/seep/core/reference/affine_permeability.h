@@ -1,4 +1,4 @@
-// The affine (uniform-gradient) permeability estimate of a pipe network, physics.md §1.3 (C1).
+// The affine (uniform-gradient) permeability estimate of a pipe network, docs/physics.md §1.3 (C1).
 //
 // A linear pressure field P = -G x along the unit axis e makes every pipe p carry
 // q_p = C_p (d_p . e) G, with d_p the vector between the centroids of the two domains it joins.

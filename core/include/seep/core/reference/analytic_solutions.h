@@ -1,12 +1,12 @@
-// Closed-form reference solutions of the verification problems (physics.md §3.1–3.3), for the
+// Closed-form reference solutions of the verification problems (docs/physics.md §3.1–3.3), for the
 // accuracy bench and the verification tests: 1D transient pressure diffusion after a pressure
 // step, and steady radial (Thiem) flow. Pure functions of dimensionless arguments.
 #pragma once
 
 namespace seep::core {
 
-// 1D diffusion p_t = c p_xx on 0 <= x <= L from p(x, 0) = 0 with p(0, t) = p1 (physics.md §3.2),
-// as p/p1 at xi = x/L and dimensionless time T = c t / L^2.
+// 1D diffusion p_t = c p_xx on 0 <= x <= L from p(x, 0) = 0 with p(0, t) = p1 (docs/physics.md
+// §3.2), as p/p1 at xi = x/L and dimensionless time T = c t / L^2.
 //
 // (a) p(L, t) = 0:  1 - xi - (2/pi) sum_n sin(n pi xi) exp(-n^2 pi^2 T) / n.
 // (b) no flow at x = L:  1 - 2 sum_m sin(M xi) exp(-M^2 T) / M,  M = (2m + 1) pi / 2.
@@ -18,7 +18,7 @@ double DiffusionDirichletDirichlet(double xi, double T);
 double DiffusionDirichletNoFlow(double xi, double T);
 
 // Steady radial flow between a well of radius r_w at p_w and an outer boundary r_e at p_e, unit
-// thickness (physics.md §3.3): p(r) = p_w + (p_e - p_w) ln(r / r_w) / ln(r_e / r_w).
+// thickness (docs/physics.md §3.3): p(r) = p_w + (p_e - p_w) ln(r / r_w) / ln(r_e / r_w).
 double ThiemPressure(double r, double r_w, double r_e, double p_w, double p_e);
 
 // The Thiem rate out of the well, m^2/s: Q = 2 pi k (p_w - p_e) / (mu ln(r_e / r_w)).

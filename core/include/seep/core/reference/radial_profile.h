@@ -1,7 +1,7 @@
-// The pressure profile of a radial scene against the Thiem form p = A + B ln r (physics.md §3.3):
-// the least-squares fit over a window of radii, the effective well radius where the fit reaches
-// the well pressure, and ring means that smooth out the packing's irregularity. Shared by the
-// V12 verification test and the accuracy benchmark, so both compare the same way.
+// The pressure profile of a radial scene against the Thiem form p = A + B ln r (docs/physics.md
+// §3.3): the least-squares fit over a window of radii, the effective well radius where the fit
+// reaches the well pressure, and ring means that smooth out the packing's irregularity. Shared by
+// the V12 verification test and the accuracy benchmark, so both compare the same way.
 #pragma once
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Terzaghi 1D consolidation with a compressible pore fluid: the analytic reference for the
-// coupled oedometer test (physics.md §3.4, verification case V17).
+// coupled oedometer test (docs/physics.md §3.4, verification case V17).
 //
 // Column of drainage length H, drained at z = 0, impermeable at z = H, load step dsigma at t = 0,
 // incompressible grains, fluid bulk modulus K_f, storage porosity n_s, oedometer modulus E_oed:

@@ -2,10 +2,10 @@
 // (issue 20, docs/accuracy.md "Coupled runs"): the fluid's storage stiffness K_f / n_s over the
 // skeleton's bulk modulus K,
 //   Pi_K = (K_f / n_s) / K.
-// A load on a sealed skeleton is shared as du/dsigma = Pi_K / (1 + Pi_K) (physics.md §3.4, V20),
-// and Terzaghi's u0 and c_v carry the same factor, so a scaled-down K_f changes a coupled answer by
-// about 1/Pi_K - 1/Pi_K(real water). The accuracy bench measured it on the undrained sample, the
-// consolidation column and the hydraulic-fracturing initiation; below
+// A load on a sealed skeleton is shared as du/dsigma = Pi_K / (1 + Pi_K) (docs/physics.md §3.4,
+// V20), and Terzaghi's u0 and c_v carry the same factor, so a scaled-down K_f changes a coupled
+// answer by about 1/Pi_K - 1/Pi_K(real water). The accuracy bench measured it on the undrained
+// sample, the consolidation column and the hydraulic-fracturing initiation; below
 // kSafeFluidToSkeletonStiffness the error against real water passed 5 %.
 //
 // Beside it, the flow interval: a pressure that lags the deformation by more than the step the

@@ -8,7 +8,7 @@
 //
 // Where the scene has a closed-form pressure it is evaluated per domain:
 //   linear boundary, steady solver:     P = P_in + (P_out - P_in) xi (exact on lattices);
-//   linear boundary, transient solver:  the series of physics.md §3.2 (a) from the uniform
+//   linear boundary, transient solver:  the series of docs/physics.md §3.2 (a) from the uniform
 //                                       initial pressure P_0, superposed for the two ends:
 //                                       P = P_0 + (P_in - P_0) S(xi, T) + (P_out - P_0) S(1 - xi,
 //                                       T) with T = c t / L^2, c = k K_f / (mu n_s);

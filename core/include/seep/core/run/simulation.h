@@ -1,4 +1,4 @@
-// Simulation: one scene as a live, steppable, snapshottable run (design-anchors §5.3, after
+// Simulation: one scene as a live, steppable, snapshottable run (docs/architecture.md §3, after
 // OpenMM's Context): spec -> stepper -> snapshot/report, and nothing else. Create() validates the
 // scene, builds its packing, contacts, domains and pipes and the Stepper (the one step loop, with
 // the effects the scene lists); Run() advances to the end time (or does the one steady solve) and

@@ -1,5 +1,5 @@
 // SimulationSnapshot: everything a Simulation needs to continue bit-identically on the same
-// build, as plain arrays (design-anchors §5.3 "Snapshot"). What is rebuilt deterministically from
+// build, as plain arrays (docs/architecture.md §3). What is rebuilt deterministically from
 // the scene (the packing of a rigid scene, its contacts, domains and pipes, the solver's caches)
 // is not stored; the scene's hash in the checkpoint header ties the two together.
 //

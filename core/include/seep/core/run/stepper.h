@@ -1,6 +1,6 @@
-// Stepper: the one step loop of every scene (design-anchors §5.4, after LAMMPS's Verlet with its
-// fix masks). It owns the live state and the effects the scene lists, with one list per hook built
-// once at set-up; a frozen packing is a stepper whose only effect is flow (no integration), a
+// Stepper: the one step loop of every scene (docs/architecture.md §4, after LAMMPS's Verlet with
+// its fix masks). It owns the live state and the effects the scene lists, with one list per hook
+// built once at set-up; a frozen packing is a stepper whose only effect is flow (no integration), a
 // steady scene is that flow in steady mode for one step.
 //
 // One step (Step()):

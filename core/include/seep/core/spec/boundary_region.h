@@ -1,6 +1,6 @@
-// BoundaryRegionSpec: a fixed pressure or a fixed flux on the domains inside a shape (README
-// "Boundary regions"). A domain belongs to a region when its centroid lies inside the shape, the
-// shape's boundary included; the network applies regions on top of the linear, radial or
+// BoundaryRegionSpec: a fixed pressure or a fixed flux on the domains inside a shape
+// (docs/guide/walls-and-regions.md). A domain belongs to a region when its centroid lies inside the
+// shape, the shape's boundary included; the network applies regions on top of the linear, radial or
 // walls-only boundary (network/boundary_regions.h) at set-up and at every re-detection.
 //
 // Shapes, in metres in the packing's frame:

@@ -1,4 +1,4 @@
-// EffectSpec: the physics a scene switches on, one struct per effect (design-anchors §5.4).
+// EffectSpec: the physics a scene switches on, one struct per effect (docs/architecture.md §4).
 //
 // A scene lists its effects; an effect that is not listed is never constructed and costs nothing.
 // An empty list means what every scene meant before effects existed: pipe flow on a frozen
@@ -46,7 +46,7 @@ struct GravityEffectSpec {
   double gy_m_s2 = -9.81;
 };
 
-// Fluid pressure -> forces on the particles around each domain (chord rule, physics.md §2.5).
+// Fluid pressure -> forces on the particles around each domain (chord rule, docs/physics.md §2.5).
 struct FluidForcesEffectSpec {};
 
 // PFC local damping, alpha in [0, 1).
@@ -90,8 +90,8 @@ struct WallSegmentSpec {
 // segment `segment`; with servo_stress_pa > 0 its speed is servo-controlled to hold that normal
 // stress (servo_wall.h), with normal_velocity_m_s it moves at that speed along its normal
 // (strain-controlled loading; > 0 towards the side the normal points to: inwards for a side
-// wall). With flow, a side wall bounds the fluid (physics.md §2.4 option B): the pores along it
-// are domains closed by it, it is impermeable unless drained, and the pore pressure of those
+// wall). With flow, a side wall bounds the fluid (docs/physics.md §2.4 option B): the pores along
+// it are domains closed by it, it is impermeable unless drained, and the pore pressure of those
 // domains pushes on it (segment walls are refused with flow: the fluid's walls are lines). The
 // servo holds the total stress (contacts + pore pressure) unless servo_effective_stress asks for
 // the contacts' stress alone.
@@ -157,7 +157,7 @@ struct FlowEffectSpec {
 };
 
 // Topology change (bond break, contact lost or made) -> domains re-detected and pressures
-// remapped conserving the stored fluid (physics.md §2.6, V16), checked at every flow update.
+// remapped conserving the stored fluid (docs/physics.md §2.6, V16), checked at every flow update.
 struct RedetectionEffectSpec {};
 
 // Constant-rate injection into the domain that contains the well centre (radial scenes): that

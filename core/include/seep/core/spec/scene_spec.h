@@ -60,8 +60,8 @@ struct FluidSpec {
   double bulk_modulus_pa = 2.2e9;
   // rho_f, kg/m^3; 0 = the fluid has no weight. The weight acts only with a gravity effect
   // (which gives g): the pipes are then driven by the head, P - rho_f g.x, and the particles
-  // are buoyed (README "Fluid weight", network/fluid_weight.h). Without a gravity effect a density
-  // changes nothing.
+  // are buoyed (docs/guide/fluid-weight.md, network/fluid_weight.h). Without a gravity effect a
+  // density changes nothing.
   double density_kg_m3 = 0.0;
 };
 
@@ -74,7 +74,7 @@ struct ApertureLawSpec {
 
 enum class FlowAxis { kX, kY };
 
-// Radial flow around a borehole (physics.md §2.4 "injection", §3.3). The sample is cut to an
+// Radial flow around a borehole (docs/physics.md §2.4 "injection", §3.3). The sample is cut to an
 // annulus about the centre of the particles' bounding box: particles whose centre lies closer
 // than well_radius_m or farther than outer_radius_m are removed. The void face left in the middle
 // is the well domain, held at well_pressure_pa; the contacts on the remaining outer hull are pipes
@@ -122,10 +122,10 @@ struct SolverSpec {
   double dt_factor = 0.9;
   double end_time_s = 0.0;
   std::uint64_t progress_every = 0;
-  // V_s = storage_factor x the storage volume (physics.md §1.2 reading (b)): lets a 2D packing's
-  // pores carry a real material's porosity (n_target / n_2D). In (0, 1].
+  // V_s = storage_factor x the storage volume (docs/physics.md §1.2 reading (b)): lets a 2D
+  // packing's pores carry a real material's porosity (n_target / n_2D). In (0, 1].
   double storage_factor = 1.0;
-  // Volume floor (physics.md §4.4): V_s >= storage_floor_fraction x the mean V_s of the free
+  // Volume floor (docs/physics.md §4.4): V_s >= storage_floor_fraction x the mean V_s of the free
   // domains of the network at set-up, so slivers neither stall the explicit step nor blow up. In
   // [0, 1); 0 = none.
   double storage_floor_fraction = 0.0;
