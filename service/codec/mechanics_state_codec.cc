@@ -100,6 +100,8 @@ void EffectStatesToProto(const core::EffectStates& e, v1::MechanicsState* out) {
     out->add_broken_bond_moments(v);
   }
   out->set_max_flow_sub_steps(e.flow.max_sub_steps);
+  out->set_flow_dt_crit_s(e.flow.dt_crit_s);
+  out->set_flow_limiting_domain(e.flow.limiting_domain);
   out->set_breakthrough_time_s(e.redetection.breakthrough_time_s);
   out->set_redetections(e.redetection.redetections);
   out->set_peak_well_pressure_pa(e.injection.peak_well_pressure_pa);
@@ -121,6 +123,8 @@ core::EffectStates EffectStatesFromProto(const v1::MechanicsState& state) {
     c.broken_yy = v[5];
   }
   e.flow.max_sub_steps = state.max_flow_sub_steps();
+  e.flow.dt_crit_s = state.flow_dt_crit_s();
+  e.flow.limiting_domain = state.flow_limiting_domain();
   e.redetection.breakthrough_time_s = state.breakthrough_time_s();
   e.redetection.redetections = state.redetections();
   e.injection.peak_well_pressure_pa = state.peak_well_pressure_pa();

@@ -325,8 +325,14 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
   s.detection_x = snap.detection_x;
   s.detection_y = snap.detection_y;
   s.topology_version = snap.topology_version;
-  for (const auto& effect : effects_.all) effect->RestoreFrom(snap.effects);
-  if (!s.has_network) return Status::Ok();
+  // Each effect's own part last, over what the re-bind below measured.
+  const auto restore_effects = [&] {
+    for (const auto& effect : effects_.all) effect->RestoreFrom(snap.effects);
+  };
+  if (!s.has_network) {
+    restore_effects();
+    return Status::Ok();
+  }
   s.net = std::move(net);
   if (!std::equal(snap.aperture.begin(), snap.aperture.end(), s.net.flow.pipe_aperture().begin())) {
     SEEP_RETURN_IF_ERROR(s.net.flow.SetApertures(snap.aperture, scene_.fluid.viscosity_pa_s));
@@ -348,6 +354,7 @@ Status Stepper::RestoreMechanics(const MechanicsSnapshot& snap,
   if (!snap.pipe_head_offset.empty()) {
     SEEP_RETURN_IF_ERROR(s.net.flow.SetPipeHeadOffsets(snap.pipe_head_offset));
   }
+  restore_effects();
   return Status::Ok();
 }
 

@@ -19,6 +19,10 @@ struct ContactsEffectState {
 
 struct FlowEffectState {
   std::int64_t max_sub_steps = 0;  // most flow sub-steps in one flow update
+  // The critical step and its domain as the last flow update found them (moving scenes; the
+  // metrics dt_crit_s and limiting_domain). 0: none kept (an older checkpoint), the re-bind's.
+  double dt_crit_s = 0.0;
+  std::int32_t limiting_domain = -1;
 };
 
 struct RedetectionEffectState {

@@ -43,8 +43,20 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   Status Reconfigure(LiveState& s) override;
   Status EndOfStep(LiveState& s, const StepInfo& info) override;
 
-  void SaveTo(EffectStates* out) const override { out->flow = state_; }
-  void RestoreFrom(const EffectStates& in) override { state_ = in.flow; }
+  void SaveTo(EffectStates* out) const override {
+    out->flow = state_;
+    out->flow.dt_crit_s = dt_crit_s_;
+    out->flow.limiting_domain = limiting_domain_;
+  }
+  // After the re-bind (Stepper::Restore): the critical step of the last flow update, not the one
+  // the re-bind measured on the detection's volumes (a resumed run's dt_crit_s differed).
+  void RestoreFrom(const EffectStates& in) override {
+    state_ = in.flow;
+    if (in.flow.dt_crit_s > 0.0) {
+      dt_crit_s_ = in.flow.dt_crit_s;
+      limiting_domain_ = in.flow.limiting_domain;
+    }
+  }
   void AddMetrics(const LiveState& s, Metrics* m) const override;
   void AddSeriesColumns(const LiveState& s, std::vector<std::string>* columns) const override;
   void AddSample(const LiveState& s, std::vector<double>* row) const override;
