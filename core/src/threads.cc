@@ -12,7 +12,7 @@ namespace seep::core {
 void SetCoreThreadsForThisThread(int threads) { omp_set_num_threads(std::max(1, threads)); }
 
 void SetMinParallelItemsForThisThread(long items) {
-  internal::tl_min_parallel_items = std::max<std::ptrdiff_t>(1, items);
+  internal::tl_min_parallel_items = items > 0 ? items : internal::kMinParallelItems;
 }
 
 int CoreThreadsPerJob(int concurrent_jobs) {

@@ -133,8 +133,8 @@ Status FlowEffect::Bind(LiveState& s, const EffectSet& effects) {
   }
   SEEP_ASSIGN_OR_RETURN(const CriticalTimeStep limit,
                         ComputeCriticalTimeStep(s.net.flow, scene.fluid.bulk_modulus_pa, storage));
-  dt_crit_s_ = limit.dt_crit;
-  limiting_domain_ = limit.limiting_domain;
+  state_.dt_crit_s = limit.dt_crit;
+  state_.limiting_domain = limit.limiting_domain;
   return Status::Ok();
 }
 
@@ -145,7 +145,7 @@ std::uint64_t FlowEffect::SetEverySteps(double dem_dt, double fluid_limited_dt, 
   } else {
     // The interval also stays within the step the fluid's stiffness allows: a pressure that
     // lags the deformation by more acts as a delayed spring and pumps energy into the particles.
-    const double interval = std::min(dt_factor * dt_crit_s_, fluid_limited_dt);
+    const double interval = std::min(dt_factor * state_.dt_crit_s, fluid_limited_dt);
     const double fit = interval / dem_dt;
     if (fit >= 1.0) every_steps_ = static_cast<std::uint64_t>(std::min(fit, 1e6));
   }
@@ -178,8 +178,8 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
       SEEP_RETURN_IF_ERROR(CheckFinite(report.last, info));
       error = report.max_mass_balance_error;
       sub_steps = report.sub_steps;
-      dt_crit_s_ = report.dt_crit;
-      limiting_domain_ = report.limiting_domain;
+      state_.dt_crit_s = report.dt_crit;
+      state_.limiting_domain = report.limiting_domain;
     }
   } else {
     SEEP_ASSIGN_OR_RETURN(const FlowStepReport report, std::get<ImplicitSolver>(solver_).Step(
@@ -187,8 +187,8 @@ Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
     SEEP_RETURN_IF_ERROR(CheckFinite(report, info));
     error = report.mass_balance_error;
     if (mode_ == FlowMode::kSubCycled) {
-      dt_crit_s_ = report.dt_crit;
-      limiting_domain_ = report.limiting_domain;
+      state_.dt_crit_s = report.dt_crit;
+      state_.limiting_domain = report.limiting_domain;
     }
   }
   if (mode_ != FlowMode::kSteady) {
@@ -217,9 +217,9 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
       (*m)["mass_balance_error"] = s.books.worst_error;
       break;
     case FlowMode::kStepped:
-      (*m)["dt_crit_s"] = dt_crit_s_;
+      (*m)["dt_crit_s"] = state_.dt_crit_s;
       (*m)["dt_over_dt_crit"] = s.scene->solver.dt_factor;
-      (*m)["limiting_domain"] = limiting_domain_;
+      (*m)["limiting_domain"] = state_.limiting_domain;
       (*m)["mass_balance_error_max"] = s.books.worst_error;
       break;
     case FlowMode::kSubCycled:
@@ -227,8 +227,8 @@ void FlowEffect::AddMetrics(const LiveState& s, Metrics* m) const {
       (*m)["flow_sub_steps_max"] = static_cast<double>(state_.max_sub_steps);
       (*m)["flow_sub_steps_per_dem_step_max"] =
           static_cast<double>(state_.max_sub_steps) / static_cast<double>(every_steps_);
-      (*m)["dt_crit_s"] = dt_crit_s_;
-      (*m)["limiting_domain"] = limiting_domain_;
+      (*m)["dt_crit_s"] = state_.dt_crit_s;
+      (*m)["limiting_domain"] = state_.limiting_domain;
       (*m)["mass_balance_error_max"] = s.books.worst_error;
       break;
   }

@@ -8,20 +8,21 @@ namespace seep::core {
 namespace {
 
 // A side wall at the outermost disk surface, *edge = x + r (or x - r, y + r, y - r), moved out by
-// ulps until no disk overlaps it in the DEM's own gap arithmetic (LineWallGap). Placed at the
-// rounded sum alone, the outermost disk overlaps it by up to half an ulp or not, as the rounding
-// at the sample's coordinates falls; a contact's dashpot engages at once, so whether a run starts
-// with that contact would depend on where the sample sits (the translation law of the
-// metamorphic suite found it). `outward` is -inf or +inf along the coordinate.
-void ClearOfEveryDisk(std::span<const double> x, std::span<const double> y,
-                      std::span<const double> radius, double nx, double ny, double outward,
-                      double* edge, double* px, double* py) {
+// ulps until no disk overlaps the wall make(*edge) in the DEM's own gap arithmetic (LineWallGap).
+// Placed at the rounded sum alone, the outermost disk overlaps it by up to half an ulp or not, as
+// the rounding at the sample's coordinates falls; a contact's dashpot engages at once, so whether
+// a run starts with that contact would depend on where the sample sits (the translation law of
+// the metamorphic suite found it). `outward` is -inf or +inf along the coordinate.
+template <typename Make>
+Status ClearOfEveryDisk(std::span<const double> x, std::span<const double> y,
+                        std::span<const double> radius, double outward, double* edge, Make make) {
   for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const DemWall wall, make(*edge));
     double smallest = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < x.size(); ++i) {
-      smallest = std::min(smallest, (x[i] - *px) * nx + (y[i] - *py) * ny - radius[i]);
+      smallest = std::min(smallest, LineWallGap(wall, x[i], y[i], radius[i]).gap);
     }
-    if (!(smallest < 0.0)) return;
+    if (!(smallest < 0.0)) return Status::Ok();
     *edge = std::nextafter(*edge, outward);
   }
 }
@@ -39,16 +40,16 @@ Result<std::vector<PlacedWall>> PlaceWalls(const WallsEffectSpec& spec, std::spa
     lo_y = std::min(lo_y, y[i] - radius[i]);
     hi_y = std::max(hi_y, y[i] + radius[i]);
   }
+  // Each side's line as MakeWall takes it below, moved clear of every disk.
   const double inf = std::numeric_limits<double>::infinity();
-  {
-    // px, py of each side's wall line as MakeWall takes them below.
-    double px = lo_x, py = lo_y;
-    ClearOfEveryDisk(x, y, radius, 1.0, 0.0, -inf, &lo_x, &lo_x, &py);
-    ClearOfEveryDisk(x, y, radius, -1.0, 0.0, inf, &hi_x, &hi_x, &py);
-    px = lo_x;
-    ClearOfEveryDisk(x, y, radius, 0.0, 1.0, -inf, &lo_y, &px, &lo_y);
-    ClearOfEveryDisk(x, y, radius, 0.0, -1.0, inf, &hi_y, &px, &hi_y);
-  }
+  SEEP_RETURN_IF_ERROR(ClearOfEveryDisk(x, y, radius, -inf, &lo_x,
+                                        [&](double e) { return MakeWall(e, lo_y, 1.0, 0.0); }));
+  SEEP_RETURN_IF_ERROR(ClearOfEveryDisk(x, y, radius, inf, &hi_x,
+                                        [&](double e) { return MakeWall(e, lo_y, -1.0, 0.0); }));
+  SEEP_RETURN_IF_ERROR(ClearOfEveryDisk(x, y, radius, -inf, &lo_y,
+                                        [&](double e) { return MakeWall(lo_x, e, 0.0, 1.0); }));
+  SEEP_RETURN_IF_ERROR(ClearOfEveryDisk(x, y, radius, inf, &hi_y,
+                                        [&](double e) { return MakeWall(lo_x, e, 0.0, -1.0); }));
   std::vector<PlacedWall> out;
   for (const WallSpec& w : spec.walls) {
     if (const auto& seg = w.segment) {

@@ -377,7 +377,7 @@ std::string CheckThreads(const SceneSpec& scene, std::uint64_t steps) {
   SetCoreThreadsForThisThread(2);
   const Outcome two = RunScene(scene, steps);
   SetCoreThreadsForThisThread(1);
-  SetMinParallelItemsForThisThread(8192);
+  SetMinParallelItemsForThisThread(0);
   if (one.error != two.error) {
     return fmt::format("1 thread {}, 2 threads {}", one.error.empty() ? "ran" : one.error,
                        two.error.empty() ? "ran" : two.error);

@@ -15,6 +15,7 @@ void SetCoreThreadsForThisThread(int threads);
 // the calling thread's team, so that a scene of a few hundred disks takes the same parallel paths
 // a large one does. Results must not change (every parallel loop is bit-identical on any thread
 // count); a thread-count test over small generated scenes sets it to check that they do not.
+// items <= 0 restores the core's threshold.
 void SetMinParallelItemsForThisThread(long items);
 
 // The cores of this machine shared out among `concurrent_jobs` jobs: max(1, cores / jobs).

@@ -43,18 +43,16 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   Status Reconfigure(LiveState& s) override;
   Status EndOfStep(LiveState& s, const StepInfo& info) override;
 
-  void SaveTo(EffectStates* out) const override {
-    out->flow = state_;
-    out->flow.dt_crit_s = dt_crit_s_;
-    out->flow.limiting_domain = limiting_domain_;
-  }
+  void SaveTo(EffectStates* out) const override { out->flow = state_; }
   // After the re-bind (Stepper::Restore): the critical step of the last flow update, not the one
-  // the re-bind measured on the detection's volumes (a resumed run's dt_crit_s differed).
+  // the re-bind measured on the detection's volumes (a resumed run's dt_crit_s differed); a
+  // checkpoint without it (0) keeps the re-bind's.
   void RestoreFrom(const EffectStates& in) override {
+    const FlowEffectState rebound = state_;
     state_ = in.flow;
-    if (in.flow.dt_crit_s > 0.0) {
-      dt_crit_s_ = in.flow.dt_crit_s;
-      limiting_domain_ = in.flow.limiting_domain;
+    if (!(in.flow.dt_crit_s > 0.0)) {
+      state_.dt_crit_s = rebound.dt_crit_s;
+      state_.limiting_domain = rebound.limiting_domain;
     }
   }
   void AddMetrics(const LiveState& s, Metrics* m) const override;
@@ -63,8 +61,8 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
 
   FlowMode mode() const { return mode_; }
   // The explicit limit V_s/(K_f sum C) at the last update (at set-up before the first).
-  double dt_crit_s() const { return dt_crit_s_; }
-  std::int32_t limiting_domain() const { return limiting_domain_; }
+  double dt_crit_s() const { return state_.dt_crit_s; }
+  std::int32_t limiting_domain() const { return state_.limiting_domain; }
 
   // DEM steps per flow update of a moving scene (FlowEffectSpec::every_steps), given the DEM step
   // and the step the fluid's stiffness allows; fixes the interval the report divides by.
@@ -86,8 +84,6 @@ class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
   FlowMode mode_ = FlowMode::kSteady;
   std::variant<std::monostate, ExplicitSolver, ImplicitSolver> solver_;
   const VolumeChangeEffect* volume_change_ = nullptr;
-  double dt_crit_s_ = 0.0;
-  std::int32_t limiting_domain_ = -1;
   std::uint64_t every_steps_ = 1;
   FlowEffectState state_;
   std::optional<FluidWeight> weight_;
