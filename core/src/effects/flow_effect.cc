@@ -152,7 +152,7 @@ std::uint64_t FlowEffect::SetEverySteps(double dem_dt, double fluid_limited_dt, 
   return every_steps_;
 }
 
-Status FlowEffect::EndOfStep(LiveState& s, const StepInfo& info) {
+Status FlowEffect::UpdateFlow(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
   double error = 0.0;
   std::int64_t sub_steps = 1;

@@ -60,16 +60,25 @@ class FluidForcesEffect final : public Effect {
     slot_pressure_.assign(kernel_.num_slots(), 0.0);
     vertex_fx_.assign(walls.num_vertices(), 0.0);
     vertex_fy_.assign(walls.num_vertices(), 0.0);
-    // The domains each impermeable wall closes, with the length of wall they span at detection
-    // (a drained wall's pores give way: the platen takes their fluid, so they add no stiffness).
+    // The domains each wall closes, with the length of wall they span at detection and, for a
+    // drained wall, the conductance of their pipe to the platen (the network's, scene_network.cc).
+    // A drained pore gives way only as fast as the platen takes its fluid: within a step it is as
+    // stiff as a sealed one unless K_f C dt / V_s is not small (counting it as soft left the servo
+    // of real water's drained platens 6,000 times too fast; they chattered at full speed).
+    const auto* walls_spec = FindEffect<WallsEffectSpec>(*s.scene);
     wall_pores_.clear();
     for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
       const std::int32_t c = d.boundary_pipe_contact[k];
       if (!walls.IsWallEdge(c) || walls.edge_particle[walls.Edge(c)] >= 0) continue;
       const auto wall = static_cast<std::size_t>(walls.edge_wall[walls.Edge(c)]);
-      if (wall < s.net.wall_node.size() && s.net.wall_node[wall] >= 0) continue;
-      wall_pores_.push_back({walls.edge_wall[walls.Edge(c)], d.boundary_pipe_domain[k],
-                             walls.edge_gap[walls.Edge(c)]});
+      const double length = walls.edge_gap[walls.Edge(c)];
+      double drain = 0.0;
+      if (wall < s.net.wall_node.size() && s.net.wall_node[wall] >= 0 && walls_spec != nullptr &&
+          wall < walls_spec->walls.size() && walls_spec->walls[wall].drain) {
+        drain = walls_spec->walls[wall].drain->conductance_m_per_pa_s * length;
+      }
+      wall_pores_.push_back(
+          {walls.edge_wall[walls.Edge(c)], d.boundary_pipe_domain[k], length, drain});
     }
     // Sized by the network's walls: the walls effect binds after this one.
     s.wall_pore_force.assign(s.net.walls.size(), 0.0);
@@ -78,7 +87,7 @@ class FluidForcesEffect final : public Effect {
     return Status::Ok();
   }
 
-  Status AddForces(LiveState& s, const StepInfo&) override {
+  Status AddForces(LiveState& s, const StepInfo& info) override {
     std::span<const double> pressure = s.net.flow.pressure();
     if (weight_) {
       // The chord rule on the heads P - W, then Archimedes (coupling/buoyancy.h); the weights
@@ -114,7 +123,7 @@ class FluidForcesEffect final : public Effect {
     kernel_.Apply(s.step_vertices.CurrentInStep(s), slot_pressure_.data(),
                   {s.particles.fx.data(), s.particles.fy.data(), s.particles.size(),
                    vertex_fx_.data(), vertex_fy_.data()});
-    AddWallLoads(s);
+    AddWallLoads(s, info.dt);
     if (weight_) AddWallWeightLoads(s);
     return Status::Ok();
   }
@@ -123,12 +132,13 @@ class FluidForcesEffect final : public Effect {
   struct WallPore {
     std::int32_t wall, domain;
     double length;  // of the stretch of wall closing it, at detection
+    double drain;   // the conductance of its pipe to a drained wall's platen, m^2/(Pa s); 0 sealed
   };
 
   // The wall vertices' forces summed per wall along its inward normal (a corner's force splits
   // between its two walls by projection, exact for walls at right angles), and the stiffness of
   // the sealed pores along each wall (dP = K_f dV / V_s, dV = l du).
-  void AddWallLoads(LiveState& s) const {
+  void AddWallLoads(LiveState& s, double dt) const {
     const DomainWalls& walls = s.net.domains.walls;
     std::fill(s.wall_pore_force.begin(), s.wall_pore_force.end(), 0.0);
     for (std::size_t v = 0; v < walls.num_vertices(); ++v) {
@@ -147,8 +157,10 @@ class FluidForcesEffect final : public Effect {
       if (role[d] == DomainRole::kFixedPressure) continue;
       const double volume = StorageVolumeOf(s.net.flow, s.storage, d);
       if (volume > 0.0) {
+        // What of a step's compression the pore still holds after the drain (backward Euler).
+        const double held = 1.0 / (1.0 + bulk * pore.drain * dt / volume);
         s.wall_fluid_stiffness[static_cast<std::size_t>(pore.wall)] +=
-            bulk * pore.length * pore.length / volume;
+            held * bulk * pore.length * pore.length / volume;
       }
     }
   }

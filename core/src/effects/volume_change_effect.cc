@@ -60,7 +60,7 @@ Status VolumeChangeEffect::Rebind(LiveState& s) {
 // or restore, capped at V_d so that it stays a valid network; every snapshot and report carries
 // V_p fresh from the positions (ReportedPoreVolumes), so what a checkpoint, an export, a result or
 // a state hash shows is current, and is the same for a resumed run.
-Status VolumeChangeEffect::EndOfStep(LiveState& s, const StepInfo& info) {
+Status VolumeChangeEffect::UpdateFlow(LiveState& s, const StepInfo& info) {
   if (!info.flow_update) return Status::Ok();
   const bool pore = s.storage.volume == StorageVolume::kPore;
   if (pore) {

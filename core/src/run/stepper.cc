@@ -88,6 +88,7 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
     Effect& effect = *all[k];
     SEEP_RETURN_IF_ERROR(effect.Bind(s, stepper->effects_));
     const std::uint32_t hooks = effect.Hooks();
+    if (hooks & kFlowUpdateHook) stepper->flow_update_.push_back(k);
     if (hooks & kForceHook) stepper->force_.push_back(k);
     if (hooks & kPostForceHook) stepper->post_force_.push_back(k);
     if (hooks & kEndOfStepHook) stepper->end_of_step_.push_back(k);
@@ -174,7 +175,7 @@ std::string Stepper::Describe() const {
         solver.storage_factor, state_.storage.floor_m2, total_steps_, solver.end_time_s);
   }
   std::string hooks;
-  for (const Hook hook : {kForceHook, kPostForceHook, kEndOfStepHook}) {
+  for (const Hook hook : {kFlowUpdateHook, kForceHook, kPostForceHook, kEndOfStepHook}) {
     hooks += hooks.empty() ? "[" : "] [";
     for (const std::string_view name : HookList(hook)) {
       hooks += fmt::format("{}{}", hooks.back() == '[' ? "" : " ", name);
@@ -182,13 +183,14 @@ std::string Stepper::Describe() const {
   }
   return fmt::format(
       "coupled run: {} particles, DEM dt = {:.6g} s, {} steps to t = {} s; flow every {} DEM "
-      "step(s) (fluid dt_crit {:.6g} s); hooks force/post-force/end-of-step: {}]",
+      "step(s) (fluid dt_crit {:.6g} s); hooks flow-update/force/post-force/end-of-step: {}]",
       state_.particles.size(), dt_, total_steps_, solver.end_time_s, flow_every_,
       effects_.flow != nullptr ? effects_.flow->dt_crit_s() : 0.0, hooks);
 }
 
 std::vector<std::string_view> Stepper::HookList(Hook hook) const {
-  const std::vector<std::size_t>& list = hook == kForceHook       ? force_
+  const std::vector<std::size_t>& list = hook == kFlowUpdateHook  ? flow_update_
+                                         : hook == kForceHook     ? force_
                                          : hook == kPostForceHook ? post_force_
                                                                   : end_of_step_;
   std::vector<std::string_view> names;
@@ -406,6 +408,12 @@ Status Stepper::Step() {
     LiveState& s;
     ~StepStampReset() { s.step_stamp = 0; }
   } reset_stamp{s};
+  if (info.flow_update) {
+    for (const std::size_t k : flow_update_) {
+      Effect& e = *effects_.all[k];
+      SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.UpdateFlow(s, info); }));
+    }
+  }
   for (const std::size_t k : force_) {
     Effect& e = *effects_.all[k];
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));

@@ -101,8 +101,8 @@ TEST(Effects, HookListsFollowTheCanonicalOrder) {
   using Names = std::vector<std::string_view>;
   EXPECT_EQ(sim.stepper().HookList(kForceHook), (Names{"contacts", "gravity", "fluid_forces"}));
   EXPECT_EQ(sim.stepper().HookList(kPostForceHook), (Names{"local_damping"}));
-  EXPECT_EQ(sim.stepper().HookList(kEndOfStepHook),
-            (Names{"volume_change", "aperture_update", "flow", "redetection"}));
+  EXPECT_EQ(sim.stepper().HookList(kFlowUpdateHook), (Names{"volume_change", "flow"}));
+  EXPECT_EQ(sim.stepper().HookList(kEndOfStepHook), (Names{"aperture_update", "redetection"}));
 }
 
 TEST(Effects, BadListsNameTheEntryAndTheReason) {

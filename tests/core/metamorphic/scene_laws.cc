@@ -284,7 +284,7 @@ std::optional<std::string> BothRanOrBothFailed(const Outcome& a, const Outcome& 
 
 }  // namespace
 
-double RoundingSpread(const SceneSpec& scene, std::uint64_t steps) {
+double RoundingSpread(const SceneSpec& scene, std::uint64_t steps, double frame) {
   const SceneSpec base = MaterialisedScene(scene);
   const Outcome a = RunScene(base, steps);
   if (!a.error.empty()) return 0.0;
@@ -302,8 +302,10 @@ double RoundingSpread(const SceneSpec& scene, std::uint64_t steps) {
           bits ^= bits << 13;
           bits ^= bits >> 7;
           bits ^= bits << 17;
-          c = std::nextafter(c,
-                             (bits & 1) != 0 ? 2.0 * std::abs(c) + 1.0 : -2.0 * std::abs(c) - 1.0);
+          // One ulp of |c| + frame: a multiple of c's own, so c +- it is exact.
+          const double magnitude = std::abs(c) + frame;
+          const double ulp = std::nextafter(magnitude, 2.0 * magnitude + 1.0) - magnitude;
+          c += (bits & 1) != 0 ? ulp : -ulp;
         }
       }
     } else {
@@ -342,8 +344,16 @@ std::string CheckIsometry(const SceneSpec& scene, std::uint64_t steps, const Sce
         fmt::format(" (compared before step {}, where a discrete event differed)", parted + 1);
   }
   const Deviation dev = Compare(a, b, map, scene.fluid.bulk_modulus_pa);
-  const double tolerance = std::max(kIsometryTolerance, kSpreadFactor * spread);
+  double tolerance = std::max(kIsometryTolerance, kSpreadFactor * spread);
   if (dev.worst <= tolerance) return "";
+  const double frame = std::max(std::abs(map.tx), std::abs(map.ty));
+  if (frame > 0.0 && a.snapshot.step > 1) {
+    const std::uint64_t compared = a.snapshot.step;
+    spread =
+        std::max(spread, RoundingSpread(scene, compared, frame) * static_cast<double>(compared));
+    tolerance = std::max(kIsometryTolerance, kSpreadFactor * spread);
+    if (dev.worst <= tolerance) return "";
+  }
   return fmt::format(
       "{}: after {} steps{} {} deviates by {:.3g} of its scale (tolerance {:.3g}: {:.0e}, or {} "
       "x the {:.3g} one rounding makes): {}",

@@ -45,8 +45,16 @@ inline constexpr double kBooksTolerance = 1e-10;
 // rounding under local damping's sign(v)) turns one rounding into finite differences within
 // steps; there the isometry law can only ask for kSpreadFactor x that spread, and a bug that
 // moves results by far more (the fluid's push on a wall off by rho_f g y_wall) still fails.
+//
+// A translation's image computes in a coarser frame: every position is rounded at |x + t| (up to
+// 8 times |x|'s ulp at the generator's sizes) at every step, where a nudge rounds once. `frame` is
+// that offset (the nudges are then one ulp of |c| + frame), and CheckIsometry holds a translation
+// that exceeds the scene's own spread to the frame's spread times the steps compared: every step's
+// rounding added up, an upper bound of a linear response (a coupled implicit disc went from 27 to
+// 600 times the one-time nudge's spread between its 5th and 50th step, in step with the count).
+// A law broken in proportion to the translation (rho_f g y_wall) moves results by 1e-2, not 1e-7.
 inline constexpr double kSpreadFactor = 100.0;
-double RoundingSpread(const SceneSpec& scene, std::uint64_t steps);
+double RoundingSpread(const SceneSpec& scene, std::uint64_t steps, double frame = 0.0);
 
 // Within max(kIsometryTolerance, kSpreadFactor x spread).
 std::string CheckIsometry(const SceneSpec& scene, std::uint64_t steps, const SceneMap& map,

@@ -34,14 +34,14 @@ enum class FlowMode { kSteady, kStepped, kSubCycled };
 class FlowEffect final : public EffectWithSpec<FlowEffectSpec> {
  public:
   using EffectWithSpec::EffectWithSpec;
-  std::uint32_t Hooks() const override { return kEndOfStepHook; }
+  std::uint32_t Hooks() const override { return kFlowUpdateHook; }
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
   Status Rebind(LiveState& s) override;
   // A stage changed a boundary pressure or a region's value: the fixed nodes and the regions'
   // sources take the live scene's values.
   Status Reconfigure(LiveState& s) override;
-  Status EndOfStep(LiveState& s, const StepInfo& info) override;
+  Status UpdateFlow(LiveState& s, const StepInfo& info) override;
 
   void SaveTo(EffectStates* out) const override { out->flow = state_; }
   // After the re-bind (Stepper::Restore): the critical step of the last flow update, not the one

@@ -14,17 +14,17 @@ namespace seep::core {
 class VolumeChangeEffect final : public Effect {
  public:
   VolumeChangeEffect() : Effect(kEffectKind<VolumeChangeEffectSpec>) {}
-  std::uint32_t Hooks() const override { return kEndOfStepHook; }
+  std::uint32_t Hooks() const override { return kFlowUpdateHook; }
 
   Status Bind(LiveState& s, const EffectSet& effects) override;
   Status Rebind(LiveState& s) override;
-  Status EndOfStep(LiveState& s, const StepInfo& info) override;
+  Status UpdateFlow(LiveState& s, const StepInfo& info) override;
 
   // dV per flow node over the current flow interval (reservoirs 0).
   std::span<const double> change() const { return change_; }
 
   // V_p of every flow node at the particles now: with apparent storage the network keeps the
-  // detected V_p (see EndOfStep), so it is computed here from the positions.
+  // detected V_p (see UpdateFlow), so it is computed here from the positions.
   std::vector<double> CurrentPoreVolumes(const LiveState& s) const;
 
  private:

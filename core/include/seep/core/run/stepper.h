@@ -5,11 +5,12 @@
 //
 // One step (Step()):
 //   moving particles: IntegrateFirstHalf; MoveWalls
+//   kFlowUpdate effects on flow-update steps only: volume change, flow (so that the forces act with
+//                       the pressure of the positions they act at: effect.h says why)
 //   kForce effects      contacts (set), gravity, fluid pressure forces
 //   kPostForce effects  local damping, servo walls
 //   moving particles: IntegrateSecondHalf
-//   kEndOfStep effects  on flow-update steps only: volume change, apertures, flow, re-detection
-//                       (+ remap), injection
+//   kEndOfStep effects  on flow-update steps only: apertures, re-detection (+ remap), injection
 // After an end-of-step effect replaced the network (re-detection), every effect re-binds to it.
 //
 // The clock (determinism across a resume rests on it: the step count and the step come from the
@@ -143,7 +144,7 @@ class Stepper {
   std::uint32_t step_stage_ = 0;     // the stage the last step belonged to (the series' column)
   EffectSet effects_;
   // Hook lists hold indices into effects_.all (so each call can be timed against its effect).
-  std::vector<std::size_t> force_, post_force_, end_of_step_;
+  std::vector<std::size_t> flow_update_, force_, post_force_, end_of_step_;
   std::vector<double> effect_seconds_;       // per effects_.all entry
   std::vector<const Effect*> sample_order_;  // whose series columns come in which order
   double integration_seconds_ = 0.0;
