@@ -17,6 +17,31 @@ double NodeOutflow(const BoundaryFluxes& fluxes, std::int32_t node) {
   return 0.0 - NodeInflow(fluxes, node);
 }
 
+// The rate out of the well into the sample through its pipes (> 0 when it feeds the sample). A
+// well held at a pressure is a fixed node of the boundary fluxes; an injected well is a source
+// whose pipes carry its rate on (read from the boundary fluxes, it was 0 while injecting).
+double WellOutflow(const SceneNetwork& net, const BoundaryFluxes& fluxes) {
+  const std::int32_t well = net.well_domain;
+  if (well < 0) return 0.0;
+  const FlowNetwork& f = net.flow;
+  if (f.role()[static_cast<std::size_t>(well)] == DomainRole::kFixedPressure) {
+    return NodeInflow(fluxes, well);
+  }
+  const auto a = f.pipe_domain_a();
+  const auto b = f.pipe_domain_b();
+  const auto c = f.pipe_conductance();
+  const auto p = f.pressure();
+  const auto offset = f.pipe_head_offset();
+  double out = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (a[k] != well && b[k] != well) continue;
+    // q into a from b = C (P_b - P_a - offset), as the solvers take it (pipe_head.h).
+    const double into_a = c[k] * (p[b[k]] - p[a[k]] - (offset.empty() ? 0.0 : offset[k]));
+    out += a[k] == well ? -into_a : into_a;
+  }
+  return out;
+}
+
 void AddPressureRange(const FlowNetwork& network, Metrics& m) {
   const PressureRange range = ComputePressureRange(network);
   m["min_pressure_pa"] = range.min;
@@ -64,7 +89,7 @@ void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net,
 // Radial boundary: the rate out of the well into the sample and into the outer reservoir.
 void AddRadialMetrics(const SceneNetwork& net, Metrics& m) {
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
-  m["well_flow_rate_m2_per_s"] = NodeInflow(fluxes, net.well_domain);
+  m["well_flow_rate_m2_per_s"] = WellOutflow(net, fluxes);
   m["outer_flow_rate_m2_per_s"] = NodeOutflow(fluxes, net.outer_node);
   m["outer_reservoir_radius_m"] = net.outer_reservoir_radius_m;
   if (net.well_domain >= 0) {
@@ -112,7 +137,7 @@ void AddNetworkSample(const SceneSpec& scene, const SceneNetwork& net, double st
   const BoundaryFluxes fluxes = ComputeBoundaryFluxes(net.flow);
   const PressureRange range = ComputePressureRange(net.flow);
   const bool radial = scene.boundary.radial.has_value();
-  const double first = NodeInflow(fluxes, radial ? net.well_domain : net.inlet_node);
+  const double first = radial ? WellOutflow(net, fluxes) : NodeInflow(fluxes, net.inlet_node);
   const double second = NodeOutflow(fluxes, radial ? net.outer_node : net.outlet_node);
   row->insert(row->end(), {first, second, range.min, range.max, step_error});
 }

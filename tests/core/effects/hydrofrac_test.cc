@@ -28,8 +28,10 @@ TEST(HydraulicFracturing, BreaksDownNearHubbertWillisAndKeepsTheFluidBudget) {
   // The well pressure over time, and the largest well pressure after the breakdown.
   double well_min_after_peak = std::numeric_limits<double>::infinity();
   bool all_finite = true;
+  double well_rate_before_breakdown = std::nan("");
   RunControl control;
   control.at_step_end = [&](const Simulation& s) {
+    if (s.step() == 500) well_rate_before_breakdown = Metric(s.Report(), "well_flow_rate_m2_per_s");
     const LiveState& state = s.stepper().state();
     for (double p : state.net.flow.pressure()) all_finite = all_finite && std::isfinite(p);
     if (state.counters.dem.bonds_broken > 0 && state.net.well_domain >= 0) {
@@ -64,6 +66,13 @@ TEST(HydraulicFracturing, BreaksDownNearHubbertWillisAndKeepsTheFluidBudget) {
   EXPECT_GT(Metric(report, "redetections"), 5.0);
   EXPECT_LT(well_min_after_peak, 0.5 * breakdown);
   EXPECT_GT(Metric(report, "breakthrough_time_s"), Metric(report, "breakdown_time_s"));
+
+  // While the well fills, its fluid leaks into the pores around it: out of the well at a rate
+  // between 0 and the injection's (it read 0 while injecting: the boundary fluxes count fixed
+  // nodes only, and an injected well is a source).
+  const double injected = FindEffect<InjectionEffectSpec>(scene)->rate_m2_s;
+  EXPECT_GT(well_rate_before_breakdown, 0.0);
+  EXPECT_LT(well_rate_before_breakdown, injected);
 
   // The fluid budget of every flow update and every remap (merges conserve sum V_s P exactly).
   EXPECT_LE(Metric(report, "mass_balance_error_max"), 1e-10);
