@@ -104,18 +104,15 @@ int main(int argc, char** argv) {
     ++scenes;
     ++per_family[FamilyName(g.family)];
     std::vector<std::pair<const char*, std::string>> verdicts;
-    const double tx = (static_cast<double>(seed % 7) - 3.0) * 0.0625 + 0.03125;
-    const double ty = (static_cast<double>(seed % 5) - 2.0) * 0.046875;
-    const double spread = RoundingSpread(g.scene, g.steps);
+    const LawScene scene(g.scene);
+    const double spread = RoundingSpread(scene, g.steps);
     if (spread > kIsometryTolerance) ++sensitive;
     verdicts.emplace_back("translation",
-                          CheckIsometry(g.scene, g.steps, {Turn::kNone, tx, ty}, spread));
-    verdicts.emplace_back("quarter turn",
-                          CheckIsometry(g.scene, g.steps, {Turn::kQuarter}, spread));
-    verdicts.emplace_back("mirror", CheckIsometry(g.scene, g.steps, {Turn::kMirrorX}, spread));
-    const SceneSpec scene = MaterialisedScene(g.scene);
-    if (scene.solver.kind != SolverKind::kSteady) {
-      verdicts.emplace_back("resume", CheckResume(scene, g.steps, 1 + seed % (g.steps - 1)));
+                          CheckIsometry(scene, g.steps, SeedTranslation(seed), spread));
+    verdicts.emplace_back("quarter turn", CheckIsometry(scene, g.steps, {Turn::kQuarter}, spread));
+    verdicts.emplace_back("mirror", CheckIsometry(scene, g.steps, {Turn::kMirrorX}, spread));
+    if (g.scene.solver.kind != SolverKind::kSteady) {
+      verdicts.emplace_back("resume", CheckResume(scene, g.steps, SeedResumeStep(seed, g.steps)));
     }
     if (o.threads_law) verdicts.emplace_back("threads", CheckThreads(scene, g.steps));
     verdicts.emplace_back("books", CheckBooks(scene, g.steps));

@@ -2,12 +2,13 @@
 // fluid (issue 49: the cause of real water's instability shown, not assumed).
 //
 //   seep_stable_step_probe SCENE [--bulk-modulus PA] [--dt-safety S] [--implicit]
-//                          [--steps N] [--every K] [--stage-steps]
+//                          [--alpha A] [--damping-ratio Z] [--steps N] [--every K]
 //
 // Runs the scene in process (the CLI's reader, the service's codec, Simulation) for N steps and
 // prints every K steps: the time, the broken bonds, the checkerboard amplitude (the largest
 // |p_d - mean of its neighbours' p| over free domains: a row-alternating mode makes it grow while
-// a smooth field keeps it near the field's curvature), the kinetic energy, and the walls' stresses.
+// a smooth field keeps it near the field's curvature), the kinetic energy, and each wall's stress
+// columns, speed, fluid stiffness and stress; at the end, the run's metrics.
 // At the end it fits the checkerboard's growth rate (per step and per second) over the last half
 // of the rows: > 0 and steady is an instability, and its rate against the step is what tells a
 // step limit from a physical growth.
@@ -54,16 +55,6 @@ double CheckerboardAmplitude(const Simulation& sim) {
   return worst;
 }
 
-double KineticEnergy(const Simulation& sim) {
-  const seep::core::DemParticles& q = sim.stepper().state().particles;
-  double e = 0.0;
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    e += 0.5 * q.mass[i] * (q.vx[i] * q.vx[i] + q.vy[i] * q.vy[i]) +
-         0.5 * q.inertia[i] * q.omega[i] * q.omega[i];
-  }
-  return e;
-}
-
 // The value of a series column in the newest sample, NaN when the scene has none.
 double Column(const Simulation& sim, const std::string& name) {
   const std::vector<std::string>& columns = sim.series().columns;
@@ -108,7 +99,6 @@ int main(int argc, char** argv) {
   std::uint64_t every = 500;
   double alpha = -1.0;
   double damping_ratio = -1.0;
-  bool fixed_walls = false;
   app.add_option("scene", scene_path, "a scene file (.textproto or .json)")->required();
   app.add_option("--bulk-modulus", bulk_modulus, "the fluid's K_f, Pa (default: the scene's)");
   app.add_option("--dt-safety", dt_safety, "contacts.dt_safety (default: the scene's)");
@@ -118,7 +108,6 @@ int main(int argc, char** argv) {
   app.add_option("--alpha", alpha, "local damping's alpha (default: the scene's)");
   app.add_option("--damping-ratio", damping_ratio,
                  "the contacts' damping ratio (default: the scene's)");
-  app.add_flag("--fixed-walls", fixed_walls, "servo walls held where they start");
   CLI11_PARSE(app, argc, argv);
 
   seep::v1::Scene message;
@@ -134,25 +123,13 @@ int main(int argc, char** argv) {
   if (bulk_modulus > 0.0) spec->fluid.bulk_modulus_pa = bulk_modulus;
   if (implicit) spec->solver.kind = seep::core::SolverKind::kImplicit;
   for (seep::core::EffectSpec& e : spec->effects) {
-    if (auto* c = std::get_if<seep::core::ContactsEffectSpec>(&e); c && dt_safety > 0.0) {
-      c->dt_safety = dt_safety;
-    }
-    if (auto* c = std::get_if<seep::core::ContactsEffectSpec>(&e); c && damping_ratio >= 0.0) {
-      c->law.damping_ratio = damping_ratio;
+    if (auto* c = std::get_if<seep::core::ContactsEffectSpec>(&e)) {
+      if (dt_safety > 0.0) c->dt_safety = dt_safety;
+      if (damping_ratio >= 0.0) c->law.damping_ratio = damping_ratio;
     }
     if (auto* d = std::get_if<seep::core::LocalDampingEffectSpec>(&e); d && alpha >= 0.0) {
       d->alpha = alpha;
     }
-    if (auto* w = std::get_if<seep::core::WallsEffectSpec>(&e); w && fixed_walls) {
-      for (seep::core::WallSpec& wall : w->walls) {
-        wall.servo_stress_pa = 0.0;
-        wall.servo_max_speed_m_s = 0.0;
-      }
-    }
-  }
-  if (fixed_walls) {  // no stage can wait for a servo then: one long stage
-    spec->stages.clear();
-    spec->solver.end_time_s = 1.0;
   }
   auto sim = Simulation::Create(*spec);
   if (!sim.ok()) {
@@ -180,7 +157,8 @@ int main(int argc, char** argv) {
     const Row row{s.step(), s.time_s(), CheckerboardAmplitude(s)};
     rows.push_back(row);
     std::printf("%10llu %12.6g %8.0f %12.5g %12.5g", static_cast<unsigned long long>(row.step),
-                row.time_s, Column(s, "bonds_broken"), row.checkerboard, KineticEnergy(s));
+                row.time_s, Column(s, "bonds_broken"), row.checkerboard,
+                seep::core::KineticEnergy(s.stepper().state().particles));
     for (const std::string& c : wall_columns) std::printf(" %.5g", Column(s, c));
     const seep::core::LiveState& live = s.stepper().state();
     for (std::size_t w = 0; w < live.walls.size(); ++w) {

@@ -65,20 +65,15 @@ class FluidForcesEffect final : public Effect {
     // A drained pore gives way only as fast as the platen takes its fluid: within a step it is as
     // stiff as a sealed one unless K_f C dt / V_s is not small (counting it as soft left the servo
     // of real water's drained platens 6,000 times too fast; they chattered at full speed).
-    const auto* walls_spec = FindEffect<WallsEffectSpec>(*s.scene);
     wall_pores_.clear();
     for (std::size_t k = 0; k < d.num_boundary_pipes(); ++k) {
       const std::int32_t c = d.boundary_pipe_contact[k];
       if (!walls.IsWallEdge(c) || walls.edge_particle[walls.Edge(c)] >= 0) continue;
-      const auto wall = static_cast<std::size_t>(walls.edge_wall[walls.Edge(c)]);
+      const std::int32_t wall = walls.edge_wall[walls.Edge(c)];
       const double length = walls.edge_gap[walls.Edge(c)];
-      double drain = 0.0;
-      if (wall < s.net.wall_node.size() && s.net.wall_node[wall] >= 0 && walls_spec != nullptr &&
-          wall < walls_spec->walls.size() && walls_spec->walls[wall].drain) {
-        drain = walls_spec->walls[wall].drain->conductance_m_per_pa_s * length;
-      }
       wall_pores_.push_back(
-          {walls.edge_wall[walls.Edge(c)], d.boundary_pipe_domain[k], length, drain});
+          {wall, d.boundary_pipe_domain[k], length,
+           WallDrainConductance(*s.scene, static_cast<std::size_t>(wall), length)});
     }
     // Sized by the network's walls: the walls effect binds after this one.
     s.wall_pore_force.assign(s.net.walls.size(), 0.0);

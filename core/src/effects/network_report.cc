@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "seep/core/flow/flow_diagnostics.h"
+#include "seep/core/flow/pipe_head.h"
 
 namespace seep::core::effects_internal {
 namespace {
@@ -29,15 +30,10 @@ double WellOutflow(const SceneNetwork& net, const BoundaryFluxes& fluxes) {
   }
   const auto a = f.pipe_domain_a();
   const auto b = f.pipe_domain_b();
-  const auto c = f.pipe_conductance();
-  const auto p = f.pressure();
-  const auto offset = f.pipe_head_offset();
   double out = 0.0;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    if (a[k] != well && b[k] != well) continue;
-    // q into a from b = C (P_b - P_a - offset), as the solvers take it (pipe_head.h).
-    const double into_a = c[k] * (p[b[k]] - p[a[k]] - (offset.empty() ? 0.0 : offset[k]));
-    out += a[k] == well ? -into_a : into_a;
+  for (std::size_t k = 0; k < f.num_pipes(); ++k) {
+    if (a[k] == well) out -= PipeInflowToA(f, k);
+    if (b[k] == well) out += PipeInflowToA(f, k);
   }
   return out;
 }

@@ -219,8 +219,7 @@ void AddDrainedWalls(const SceneSpec& scene, SceneNetwork& net, FlowNetworkData&
     if (d.walls.edge_particle[e] >= 0) continue;  // a foot facing an open side: no flow
     const auto wall = static_cast<std::size_t>(d.walls.edge_wall[e]);
     if (net.wall_node[wall] < 0) continue;  // impermeable
-    const double conductance =
-        walls->walls[wall].drain->conductance_m_per_pa_s * d.walls.edge_gap[e];
+    const double conductance = WallDrainConductance(scene, wall, d.walls.edge_gap[e]);
     if (!(conductance > 0.0)) continue;  // a stretch of zero length
     data.pipe_domain_a.push_back(d.boundary_pipe_domain[k]);
     data.pipe_domain_b.push_back(net.wall_node[wall]);
@@ -229,6 +228,17 @@ void AddDrainedWalls(const SceneSpec& scene, SceneNetwork& net, FlowNetworkData&
     net.pipe_contact.push_back(-1);
   }
 }
+
+}  // namespace
+
+double WallDrainConductance(const SceneSpec& scene, std::size_t wall, double length) {
+  const auto* walls = FindEffect<WallsEffectSpec>(scene);
+  if (walls == nullptr || wall >= walls->walls.size()) return 0.0;
+  const auto& drain = walls->walls[wall].drain;
+  return drain ? drain->conductance_m_per_pa_s * length : 0.0;
+}
+
+namespace {
 
 Status ConnectRadialBoundary(const SceneSpec& scene, SceneNetwork& net) {
   const RadialBoundarySpec& radial = *scene.boundary.radial;

@@ -108,12 +108,6 @@ TEST(DemContacts, ContactsAreSortedAndCountersOfAbsentPiecesStayZero) {
   EXPECT_EQ(counters.servo_updates, 0u);
 }
 
-}  // namespace
-}  // namespace seep::core
-
-namespace seep::core {
-namespace {
-
 // PFC local damping takes sign(v) = 0 at rest, and a velocity at rounding level (below
 // kRestFraction of what the force gives in a step) is rest: its sign, which rounding decides,
 // must not put alpha |F| on the particle one way or the other.

@@ -1,8 +1,9 @@
 // The pore fluid as a spring in the step: the forces must act with the pressure of the positions
 // they act at. A sealed, bonded box of real water settling under gravity with no damping at all
 // conserves its energy: a pressure one step late (the flow update after the forces) is a delayed
-// spring that gains about (omega dt)^2 / 2 of its energy every step. With it, this test fails at
-// dt_safety 0.5 and 0.8 (at 0.2 the growth needs more than its 3,000 steps).
+// spring that gains about (omega dt)^2 / 2 of its energy every step. With it, every case here
+// fails (at 0.3 the later kinetic energy was 2.3e6 times the early one's); at 0.2 this scene's
+// excited modes are too slow to show it in 20,000 steps, so 0.2 is not a case.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,21 +41,11 @@ SceneSpec SealedUndampedBox(double dt_safety) {
   return s;
 }
 
-double KineticEnergy(const Simulation& sim) {
-  const DemParticles& p = sim.stepper().state().particles;
-  double e = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
-         0.5 * p.inertia[i] * p.omega[i] * p.omega[i];
-  }
-  return e;
-}
-
 class FluidSpringStep : public ::testing::TestWithParam<double> {};
 
 // The largest kinetic energy of steps 1,001-3,000 against that of the first 1,000: energy is
 // conserved, so the later oscillation stays within the early one's bound (the factor 2 leaves
-// room for energy moving between modes; a delayed spring multiplies it by e^100 and more).
+// room for energy moving between modes).
 TEST_P(FluidSpringStep, AnUndampedSealedSampleKeepsItsEnergy) {
   Simulation sim = MustCreate(SealedUndampedBox(GetParam()));
   double early = 0.0, late = 0.0;
@@ -62,17 +53,19 @@ TEST_P(FluidSpringStep, AnUndampedSealedSampleKeepsItsEnergy) {
   RunControl control;
   control.stop = stop.get_token();
   control.at_step_end = [&](const Simulation& s) {
-    (s.step() <= 1000 ? early : late) = std::max(s.step() <= 1000 ? early : late, KineticEnergy(s));
+    double& peak = s.step() <= 1000 ? early : late;
+    peak = std::max(peak, KineticEnergy(s.stepper().state().particles));
+
     if (s.step() >= 3000) stop.request_stop();
   };
   const Status ran = sim.Run(control);
   ASSERT_EQ(ran.code(), StatusCode::kCancelled) << ran.message();
-  ASSERT_GT(early, 0.0) << "the pressure set nothing in motion";
+  ASSERT_GT(early, 0.0) << "gravity set nothing in motion";
   EXPECT_LE(late, 2.0 * early) << "dt_safety " << GetParam() << ": kinetic energy " << early
                                << " J/m in the first 1,000 steps, " << late << " after";
 }
 
-INSTANTIATE_TEST_SUITE_P(DtSafety, FluidSpringStep, ::testing::Values(0.2, 0.5, 0.8));
+INSTANTIATE_TEST_SUITE_P(DtSafety, FluidSpringStep, ::testing::Values(0.3, 0.5, 0.8));
 
 }  // namespace
 }  // namespace seep::core::effects_test

@@ -15,7 +15,7 @@ namespace {
 TEST(FoundByTheLaws, ResumeReportsTheCriticalStepOfTheLastFlowUpdate) {
   const GeneratedScene g = GenerateScene(1217);
   ASSERT_EQ(g.family, Family::kBox);
-  EXPECT_EQ(CheckResume(MaterialisedScene(g.scene), g.steps, 42), "");
+  EXPECT_EQ(CheckResume(LawScene(g.scene), g.steps, 42), "");
 }
 
 }  // namespace

@@ -18,7 +18,6 @@
 #include "seep/core/threads.h"
 
 namespace seep::core::metamorphic {
-namespace {
 
 // Where a run stands after its steps: its snapshot and report, and what the isometry law
 // compares that the snapshot does not hold (domain centroids, wall stresses).
@@ -35,6 +34,8 @@ struct Outcome {
   // (a contact's onset, where its dashpot engages at once; a bond's strength) on different sides.
   std::vector<std::array<std::uint64_t, 4>> events;
 };
+
+namespace {
 
 // Runs `scene` for `steps` steps (a steady scene: its one solve), stopped at `stop_at` (0: not)
 // and resumed from that snapshot in a new simulation when asked.
@@ -179,12 +180,14 @@ struct Deviation {
     worst = std::numeric_limits<double>::infinity();
     where = what + ":";
   }
-  void Add(double a, double b, double scale, const std::string& what) {
+  // `name` makes the quantity's name, only for a new worst (most values are not).
+  template <typename Name>
+  void Add(double a, double b, double scale, Name name) {
     const double d = std::abs(a - b) / scale;
     if (!(d <= worst)) {  // NaN counts as the worst
       worst = d;
       where =
-          fmt::format("{}: {:.17g} against its image {:.17g} (scale {:.3g})", what, a, b, scale);
+          fmt::format("{}: {:.17g} against its image {:.17g} (scale {:.3g})", name(), a, b, scale);
     }
   }
 };
@@ -209,10 +212,12 @@ Deviation Compare(const Outcome& a, const Outcome& b, const SceneMap& map, doubl
       double px, py, vx, vy;
       map.Point(x.x[i], x.y[i], &px, &py);
       map.Vector(x.vx[i], x.vy[i], &vx, &vy);
-      dev.Add(px, y.x[i], length, fmt::format("particle {} x", i));
-      dev.Add(py, y.y[i], length, fmt::format("particle {} y", i));
-      dev.Add(vx * a.dt, y.vx[i] * a.dt, step_length, fmt::format("particle {} vx dt", i));
-      dev.Add(vy * a.dt, y.vy[i] * a.dt, step_length, fmt::format("particle {} vy dt", i));
+      dev.Add(px, y.x[i], length, [&] { return fmt::format("particle {} x", i); });
+      dev.Add(py, y.y[i], length, [&] { return fmt::format("particle {} y", i); });
+      dev.Add(vx * a.dt, y.vx[i] * a.dt, step_length,
+              [&] { return fmt::format("particle {} vx dt", i); });
+      dev.Add(vy * a.dt, y.vy[i] * a.dt, step_length,
+              [&] { return fmt::format("particle {} vy dt", i); });
     }
     // Walls: the line's offset n.p (any point of the line gives it) and its normal speed.
     for (std::size_t w = 0; 6 * w + 5 < x.walls.size() && 6 * w + 5 < y.walls.size(); ++w) {
@@ -221,9 +226,10 @@ Deviation Compare(const Outcome& a, const Outcome& b, const SceneMap& map, doubl
       double nx, ny;
       map.Vector(u[2], u[3], &nx, &ny);
       const double offset = u[0] * u[2] + u[1] * u[3] + nx * map.tx + ny * map.ty;
-      dev.Add(offset, v[0] * v[2] + v[1] * v[3], length, fmt::format("wall {} line", w));
+      dev.Add(offset, v[0] * v[2] + v[1] * v[3], length,
+              [&] { return fmt::format("wall {} line", w); });
       dev.Add((u[4] * u[2] + u[5] * u[3]) * a.dt, (v[4] * v[2] + v[5] * v[3]) * a.dt, step_length,
-              fmt::format("wall {} normal speed dt", w));
+              [&] { return fmt::format("wall {} normal speed dt", w); });
     }
   }
   // Pressures of the domains, matched by centroid (a turned network numbers them otherwise).
@@ -262,13 +268,14 @@ Deviation Compare(const Outcome& a, const Outcome& b, const SceneMap& map, doubl
       return dev;
     }
     dev.Add(a.domain_pressure[d], b.domain_pressure[*match], pressure_scale,
-            fmt::format("domain {} pressure", d));
+            [&] { return fmt::format("domain {} pressure", d); });
   }
   // The walls feel the pore pressure: the same scale (or the largest stress, if larger).
   double stress_scale = pressure_scale;
   for (const double s : a.wall_stress) stress_scale = std::max(stress_scale, std::abs(s));
   for (std::size_t w = 0; w < a.wall_stress.size() && w < b.wall_stress.size(); ++w) {
-    dev.Add(a.wall_stress[w], b.wall_stress[w], stress_scale, fmt::format("wall {} stress", w));
+    dev.Add(a.wall_stress[w], b.wall_stress[w], stress_scale,
+            [&] { return fmt::format("wall {} stress", w); });
   }
   return dev;
 }
@@ -284,9 +291,29 @@ std::optional<std::string> BothRanOrBothFailed(const Outcome& a, const Outcome& 
 
 }  // namespace
 
-double RoundingSpread(const SceneSpec& scene, std::uint64_t steps, double frame) {
-  const SceneSpec base = MaterialisedScene(scene);
-  const Outcome a = RunScene(base, steps);
+SceneMap SeedTranslation(std::uint64_t seed) {
+  return {Turn::kNone, (static_cast<double>(seed % 7) - 3.0) * 0.0625 + 0.03125,
+          (static_cast<double>(seed % 5) - 2.0) * 0.046875};
+}
+
+std::uint64_t SeedResumeStep(std::uint64_t seed, std::uint64_t steps) {
+  return 1 + seed % (steps - 1);
+}
+
+LawScene::LawScene(const SceneSpec& generated)
+    : generated_(generated), materialised_(MaterialisedScene(generated)) {}
+
+LawScene::~LawScene() = default;
+
+const Outcome& LawScene::Run(std::uint64_t steps) const {
+  std::unique_ptr<Outcome>& run = runs_[steps];
+  if (!run) run = std::make_unique<Outcome>(RunScene(materialised_, steps));
+  return *run;
+}
+
+double RoundingSpread(const LawScene& scene, std::uint64_t steps, double frame) {
+  const SceneSpec& base = scene.materialised();
+  const Outcome& a = scene.Run(steps);
   if (!a.error.empty()) return 0.0;
   double spread = 0.0;
   // Two patterns of every coordinate and radius one ulp up or down (a map rounds every position
@@ -314,36 +341,36 @@ double RoundingSpread(const SceneSpec& scene, std::uint64_t steps, double frame)
     }
     const Outcome b = RunScene(nudged, steps);
     if (!b.error.empty()) return std::numeric_limits<double>::infinity();
-    spread = std::max(spread, Compare(a, b, SceneMap{}, scene.fluid.bulk_modulus_pa).worst);
+    spread = std::max(spread, Compare(a, b, SceneMap{}, base.fluid.bulk_modulus_pa).worst);
   }
   return spread;
 }
 
-std::string CheckIsometry(const SceneSpec& scene, std::uint64_t steps, const SceneMap& map,
+std::string CheckIsometry(const LawScene& scene, std::uint64_t steps, const SceneMap& map,
                           double spread) {
-  const MappedScene image = MapScene(scene, map);
+  const MappedScene image = MapScene(scene.generated(), map);
   if (!image.scene) return "";  // not expressible as a scene: nothing to check
-  const SceneSpec original = MaterialisedScene(scene);
-  Outcome a = RunScene(original, steps);
+  const Outcome& full = scene.Run(steps);
   Outcome b = RunScene(*image.scene, steps);
-  if (auto failed = BothRanOrBothFailed(a, b, map.Name())) return *failed;
-  if (!a.error.empty()) return "";  // both failed alike: the stability guards say why
+  if (auto failed = BothRanOrBothFailed(full, b, map.Name())) return *failed;
+  if (!full.error.empty()) return "";  // both failed alike: the stability guards say why
   // Where the two runs met a discontinuity on different sides (events.size() is the steps run),
   // they are compared at the step before: up to there they must be each other's image.
   std::uint64_t parted = 0;
-  while (parted < a.events.size() && parted < b.events.size() &&
-         a.events[parted] == b.events[parted]) {
+  while (parted < full.events.size() && parted < b.events.size() &&
+         full.events[parted] == b.events[parted]) {
     ++parted;
   }
+  const bool part = parted < full.events.size() || parted < b.events.size();
   std::string where_compared;
-  if (parted < a.events.size() || parted < b.events.size()) {
+  if (part) {
     if (parted == 0) return "";  // parted at the first step: nothing before to compare
-    a = RunScene(original, parted);
     b = RunScene(*image.scene, parted);
     where_compared =
         fmt::format(" (compared before step {}, where a discrete event differed)", parted + 1);
   }
-  const Deviation dev = Compare(a, b, map, scene.fluid.bulk_modulus_pa);
+  const Outcome& a = part ? scene.Run(parted) : full;
+  const Deviation dev = Compare(a, b, map, scene.materialised().fluid.bulk_modulus_pa);
   double tolerance = std::max(kIsometryTolerance, kSpreadFactor * spread);
   if (dev.worst <= tolerance) return "";
   const double frame = std::max(std::abs(map.tx), std::abs(map.ty));
@@ -361,9 +388,9 @@ std::string CheckIsometry(const SceneSpec& scene, std::uint64_t steps, const Sce
       dev.worst, tolerance, kIsometryTolerance, kSpreadFactor, spread, dev.where);
 }
 
-std::string CheckResume(const SceneSpec& scene, std::uint64_t steps, std::uint64_t stop_at) {
-  const Outcome whole = RunScene(scene, steps);
-  const Outcome resumed = RunScene(scene, steps, stop_at);
+std::string CheckResume(const LawScene& scene, std::uint64_t steps, std::uint64_t stop_at) {
+  const Outcome& whole = scene.Run(steps);
+  const Outcome resumed = RunScene(scene.materialised(), steps, stop_at);
   if (whole.error != resumed.error) {
     return fmt::format("resumed at step {}: the uninterrupted run {}, the resumed one {}", stop_at,
                        whole.error.empty() ? "ran" : whole.error,
@@ -379,13 +406,13 @@ std::string CheckResume(const SceneSpec& scene, std::uint64_t steps, std::uint64
   return "";
 }
 
-std::string CheckThreads(const SceneSpec& scene, std::uint64_t steps) {
+std::string CheckThreads(const LawScene& scene, std::uint64_t steps) {
   // Every loop goes to the team, however small the scene (threads.h).
   SetMinParallelItemsForThisThread(1);
   SetCoreThreadsForThisThread(1);
-  const Outcome one = RunScene(scene, steps);
+  const Outcome one = RunScene(scene.materialised(), steps);
   SetCoreThreadsForThisThread(2);
-  const Outcome two = RunScene(scene, steps);
+  const Outcome two = RunScene(scene.materialised(), steps);
   SetCoreThreadsForThisThread(1);
   SetMinParallelItemsForThisThread(0);
   if (one.error != two.error) {
@@ -402,8 +429,8 @@ std::string CheckThreads(const SceneSpec& scene, std::uint64_t steps) {
   return "";
 }
 
-std::string CheckBooks(const SceneSpec& scene, std::uint64_t steps) {
-  const Outcome run = RunScene(scene, steps);
+std::string CheckBooks(const LawScene& scene, std::uint64_t steps) {
+  const Outcome& run = scene.Run(steps);
   if (!run.error.empty() || !run.snapshot.ledger) return "";
   const FluidLedger& books = *run.snapshot.ledger;
   if (books.handled_m2 > 0.0) {

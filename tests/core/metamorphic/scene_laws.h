@@ -18,6 +18,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 
 #include "scene_maps.h"
@@ -54,13 +56,39 @@ inline constexpr double kBooksTolerance = 1e-10;
 // 600 times the one-time nudge's spread between its 5th and 50th step, in step with the count).
 // A law broken in proportion to the translation (rho_f g y_wall) moves results by 1e-2, not 1e-7.
 inline constexpr double kSpreadFactor = 100.0;
-double RoundingSpread(const SceneSpec& scene, std::uint64_t steps, double frame = 0.0);
+
+struct Outcome;  // where a run stands after its steps (scene_laws.cc)
+
+// A scene under the laws: the scene as generated (what the maps take), materialised once (what
+// every law runs), and the materialised scene's own runs, each step count run once: the spread,
+// the three maps, the resume and the books all compare against the same run.
+class LawScene {
+ public:
+  explicit LawScene(const SceneSpec& generated);
+  ~LawScene();
+  const SceneSpec& generated() const { return generated_; }
+  const SceneSpec& materialised() const { return materialised_; }
+  const Outcome& Run(std::uint64_t steps) const;
+
+ private:
+  SceneSpec generated_;
+  SceneSpec materialised_;
+  mutable std::map<std::uint64_t, std::unique_ptr<Outcome>> runs_;
+};
+
+double RoundingSpread(const LawScene& scene, std::uint64_t steps, double frame = 0.0);
+
+// What a seed's laws use, the same in the suite and the bench: a translation that is a multiple
+// of the snapping grid (scene_maps.h) of the order of the sample (up to 0.25 m), and a step
+// somewhere inside the run to stop and resume at.
+SceneMap SeedTranslation(std::uint64_t seed);
+std::uint64_t SeedResumeStep(std::uint64_t seed, std::uint64_t steps);
 
 // Within max(kIsometryTolerance, kSpreadFactor x spread).
-std::string CheckIsometry(const SceneSpec& scene, std::uint64_t steps, const SceneMap& map,
+std::string CheckIsometry(const LawScene& scene, std::uint64_t steps, const SceneMap& map,
                           double spread);
-std::string CheckResume(const SceneSpec& scene, std::uint64_t steps, std::uint64_t stop_at);
-std::string CheckThreads(const SceneSpec& scene, std::uint64_t steps);
-std::string CheckBooks(const SceneSpec& scene, std::uint64_t steps);
+std::string CheckResume(const LawScene& scene, std::uint64_t steps, std::uint64_t stop_at);
+std::string CheckThreads(const LawScene& scene, std::uint64_t steps);
+std::string CheckBooks(const LawScene& scene, std::uint64_t steps);
 
 }  // namespace seep::core::metamorphic

@@ -155,6 +155,10 @@ StorageModel RunStorage(const SceneSpec& scene, const FlowNetwork& flow);
 // max_aperture_m is 0).
 ApertureLaw SceneApertureLaw(const SceneSpec& scene);
 
+// The conductance of the pipe a stretch of `length` of wall `wall` gives into its platen: the
+// drain's conductance x the length for a drained wall, 0 for an impermeable one (or no walls).
+double WallDrainConductance(const SceneSpec& scene, std::size_t wall, double length);
+
 // The gap of a detection contact id (a wall edge's from the detection's wall table).
 double DetectionContactGap(const SceneNetwork& net, std::int32_t contact);
 
