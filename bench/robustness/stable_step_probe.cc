@@ -8,7 +8,9 @@
 // prints every K steps: the time, the broken bonds, the checkerboard amplitude (the largest
 // |p_d - mean of its neighbours' p| over free domains: a row-alternating mode makes it grow while
 // a smooth field keeps it near the field's curvature), the kinetic energy, and each wall's stress
-// columns, speed, fluid stiffness and stress; at the end, the run's metrics.
+// columns, speed, fluid stiffness and stress, and the energy guard's ratio (run/energy_guard.h:
+// (K + E_f) / (E_0 + W), which fails the run above EnergyGuard::kAllowedRatio); at the end, the
+// run's metrics.
 // At the end it fits the checkerboard's growth rate (per step and per second) over the last half
 // of the rows: > 0 and steady is an instability, and its rate against the step is what tells a
 // step limit from a physical growth.
@@ -144,7 +146,8 @@ int main(int argc, char** argv) {
       wall_columns.push_back(c);
     }
   }
-  std::printf("%10s %12s %8s %12s %12s", "step", "time_s", "broken", "checker_pa", "kinetic_j");
+  std::printf("%10s %12s %8s %12s %12s %10s", "step", "time_s", "broken", "checker_pa", "kinetic_j",
+              "energy_ratio");
   for (const std::string& c : wall_columns) std::printf(" %s", c.c_str());
   std::printf("\n");
   std::vector<Row> rows;
@@ -156,9 +159,10 @@ int main(int argc, char** argv) {
     if (s.step() % every != 0) return;
     const Row row{s.step(), s.time_s(), CheckerboardAmplitude(s)};
     rows.push_back(row);
-    std::printf("%10llu %12.6g %8.0f %12.5g %12.5g", static_cast<unsigned long long>(row.step),
-                row.time_s, Column(s, "bonds_broken"), row.checkerboard,
-                seep::core::KineticEnergy(s.stepper().state().particles));
+    std::printf("%10llu %12.6g %8.0f %12.5g %12.5g %10.4g",
+                static_cast<unsigned long long>(row.step), row.time_s, Column(s, "bonds_broken"),
+                row.checkerboard, seep::core::KineticEnergy(s.stepper().state().particles),
+                s.stepper().EnergyRatio());
     for (const std::string& c : wall_columns) std::printf(" %.5g", Column(s, c));
     const seep::core::LiveState& live = s.stepper().state();
     for (std::size_t w = 0; w < live.walls.size(); ++w) {

@@ -172,6 +172,11 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
                                           snapshot.pipe_head_offset.end());
   out->set_topology_version(snapshot.topology_version);
   EffectStatesToProto(snapshot.effects, out);
+  if (const auto& g = snapshot.energy_guard) {
+    for (const double v : {g->initial_j, g->gravity_moment_j, g->work_j, g->fluid_work_j}) {
+      out->add_energy_guard(v);
+    }
+  }
   ContactsToProto(snapshot.contacts, out->mutable_contacts());
 }
 
@@ -209,6 +214,10 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
   snap.pipe_head_offset.assign(state.pipe_head_offset().begin(), state.pipe_head_offset().end());
   snap.topology_version = state.topology_version();
   snap.effects = EffectStatesFromProto(state);
+  // Any other length (an older checkpoint's none) leaves it unset: the guard restarts.
+  if (const auto& g = state.energy_guard(); g.size() == 4) {
+    snap.energy_guard = core::EnergyGuardState{g[0], g[1], g[2], g[3]};
+  }
   snap.contacts = ContactsFromProto(state.contacts());
   return snap;
 }

@@ -111,7 +111,10 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   }
   // Which stage each row belongs to (from 1): where it changes, a stage ended.
   if (stepper->program_.active()) stepper->series_.columns.push_back("stage");
-  if (s.moves()) SEEP_RETURN_IF_ERROR(stepper->InitialForces());
+  if (s.moves()) {
+    SEEP_RETURN_IF_ERROR(stepper->InitialForces());
+    stepper->guard_.Start(s);
+  }
   stepper->Sample();  // the initial state is the first row
   return stepper;
 }
@@ -416,8 +419,13 @@ Status Stepper::Step() {
   }
   for (const std::size_t k : force_) {
     Effect& e = *effects_.all[k];
+    const bool fluid = moves && &e == effects_.fluid_forces;
+    if (fluid) guard_.BeforeFluidForces(s);
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));
+    if (fluid) guard_.AfterFluidForces(s, dt_);
   }
+  // The walls moved with the velocities the servos set last step; the loads are this step's.
+  if (moves) guard_.AddStepWork(s, dt_);
   for (const std::size_t k : post_force_) {
     Effect& e = *effects_.all[k];
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.PostForce(s, info); }));
@@ -454,6 +462,9 @@ Status Stepper::Step() {
         program_.AfterStep(s, info, effects_.flow == nullptr || info.flow_update);
     if (outcome.kind == StageOutcome::Kind::kFailed) return FailedPrecondition(outcome.message);
     if (outcome.kind == StageOutcome::Kind::kEnded) EndStage(outcome.ended_by);
+  }
+  if (moves && (step_ % EnergyGuard::kCheckEvery == 0 || finished())) {
+    SEEP_RETURN_IF_ERROR(guard_.Check(s, step_, FindEffect<ContactsEffectSpec>(scene_)->dt_safety));
   }
   if (step_ % sample_every_ == 0 || finished()) Sample();
   return Status::Ok();

@@ -154,6 +154,9 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
   out->fluid_limited_dt = fluid_limited_dt_;
   out->flow_every = flow_every_;
   for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
+  EnergyGuardState guard;
+  guard_.SaveTo(&guard);
+  out->energy_guard = guard;
 }
 
 Status Stepper::Restore(const SimulationSnapshot& snap) {
@@ -200,6 +203,9 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
     }
   }
   SEEP_RETURN_IF_ERROR(CheckLedger(snap.ledger, state_.books.ledger.left_m2.size()));
+  if (snap.mechanics && snap.mechanics->energy_guard) {
+    SEEP_RETURN_IF_ERROR(EnergyGuard::Validate(*snap.mechanics->energy_guard));
+  }
   if (snap.series.columns != series_.columns ||
       snap.series.values.size() % series_.columns.size() != 0) {
     return DataLoss("snapshot.series: columns or row length differ from this scene's");
@@ -243,7 +249,8 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   }
   // The stage's settings of this moment, taken up again (idempotent: the same values the run
   // would apply at its next step); the fixed pressures over the snapshot's copies.
-  if (program_.active()) return ReconfigureAll();
+  if (program_.active()) SEEP_RETURN_IF_ERROR(ReconfigureAll());
+  if (snap.mechanics) guard_.RestoreFrom(snap.mechanics->energy_guard, state_);
   return Status::Ok();
 }
 

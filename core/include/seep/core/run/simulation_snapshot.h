@@ -27,6 +27,16 @@ struct TimeSeries {
   std::size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
 };
 
+// The energy guard's account (run/energy_guard.h), J per m of thickness: what the disks held at
+// the start, gravity's moment sum m_i g.x_i then, and the work of walls and held particles and of
+// the pore fluid since.
+struct EnergyGuardState {
+  double initial_j = 0.0;
+  double gravity_moment_j = 0.0;
+  double work_j = 0.0;
+  double fluid_work_j = 0.0;
+};
+
 // The state of a scene whose particles move (the contacts effect): the live state the stepper owns
 // (particles, walls and contact history, the topology of the current network — rebuilt on restore
 // by the same detection from the positions and contacts it was detected from — and the flow
@@ -62,6 +72,8 @@ struct MechanicsSnapshot {
   std::uint64_t flow_every = 0;
   // Each effect's run totals (its SaveTo / RestoreFrom).
   EffectStates effects;
+  // Unset in checkpoints written before the guard kept it (it then starts from the restore).
+  std::optional<EnergyGuardState> energy_guard;
 };
 
 // Where a staged run stands (scene.stages, run/stage_program.h): the current stage, where it

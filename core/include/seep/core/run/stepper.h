@@ -11,6 +11,9 @@
 //   kPostForce effects  local damping, servo walls
 //   moving particles: IntegrateSecondHalf
 //   kEndOfStep effects  on flow-update steps only: apertures, re-detection (+ remap), injection
+// and, with moving particles, the energy guard's books (energy_guard.h): the fluid forces' work
+// around their effect, the walls' after the forces, its check every EnergyGuard::kCheckEvery steps
+// and at the end.
 // After an end-of-step effect replaced the network (re-detection), every effect re-binds to it.
 //
 // The clock (determinism across a resume rests on it: the step count and the step come from the
@@ -41,6 +44,7 @@
 
 #include "seep/core/effects/effect_set.h"
 #include "seep/core/effects/live_state.h"
+#include "seep/core/run/energy_guard.h"
 #include "seep/core/run/simulation_snapshot.h"
 #include "seep/core/run/stage_program.h"
 
@@ -80,6 +84,9 @@ class Stepper {
   // The newest sample (one value per series column), taken every sample_every() steps whether
   // or not series() keeps it: what live progress shows.
   const std::vector<double>& latest_sample() const { return latest_sample_; }
+  // The energy guard's headroom now: K / (E_0 + W), which it fails above
+  // EnergyGuard::kAllowedRatio (0 where it does not apply).
+  double EnergyRatio() const { return guard_.Ratio(state_); }
   // One line for the log: the step, the step count, the flow interval and the hook lists.
   std::string Describe() const;
 
@@ -162,6 +169,7 @@ class Stepper {
   std::uint64_t series_stride_ = 1;
   TimeSeries series_;
   std::vector<double> latest_sample_;
+  EnergyGuard guard_;  // moving scenes: fails an unstable step
 };
 
 // OK when every metric is a finite number; else FAILED_PRECONDITION naming the first one that is
