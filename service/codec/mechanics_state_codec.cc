@@ -176,6 +176,11 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
     for (const double v : {g->initial_j, g->gravity_moment_j, g->work_j, g->fluid_work_j}) {
       out->add_energy_guard(v);
     }
+    out->mutable_energy_guard_wall_load()->Assign(g->wall_load.begin(), g->wall_load.end());
+    out->mutable_energy_guard_held_fx()->Assign(g->held_fx.begin(), g->held_fx.end());
+    out->mutable_energy_guard_held_fy()->Assign(g->held_fy.begin(), g->held_fy.end());
+    out->mutable_energy_guard_fluid_fx()->Assign(g->fluid_fx.begin(), g->fluid_fx.end());
+    out->mutable_energy_guard_fluid_fy()->Assign(g->fluid_fy.begin(), g->fluid_fy.end());
   }
   ContactsToProto(snapshot.contacts, out->mutable_contacts());
 }
@@ -216,7 +221,20 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
   snap.effects = EffectStatesFromProto(state);
   // Any other length (an older checkpoint's none) leaves it unset: the guard restarts.
   if (const auto& g = state.energy_guard(); g.size() == 4) {
-    snap.energy_guard = core::EnergyGuardState{g[0], g[1], g[2], g[3]};
+    core::EnergyGuardState guard;
+    guard.initial_j = g[0];
+    guard.gravity_moment_j = g[1];
+    guard.work_j = g[2];
+    guard.fluid_work_j = g[3];
+    guard.wall_load.assign(state.energy_guard_wall_load().begin(),
+                           state.energy_guard_wall_load().end());
+    guard.held_fx.assign(state.energy_guard_held_fx().begin(), state.energy_guard_held_fx().end());
+    guard.held_fy.assign(state.energy_guard_held_fy().begin(), state.energy_guard_held_fy().end());
+    guard.fluid_fx.assign(state.energy_guard_fluid_fx().begin(),
+                          state.energy_guard_fluid_fx().end());
+    guard.fluid_fy.assign(state.energy_guard_fluid_fy().begin(),
+                          state.energy_guard_fluid_fy().end());
+    snap.energy_guard = std::move(guard);
   }
   snap.contacts = ContactsFromProto(state.contacts());
   return snap;

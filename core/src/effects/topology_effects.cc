@@ -219,6 +219,17 @@ class InjectionEffect final : public EffectWithSpec<InjectionEffectSpec> {
       (*m)["well_pressure_pa"] = s.net.flow.pressure()[static_cast<std::size_t>(s.net.well_domain)];
     }
   }
+  // The well's pressure as it rises to the breakdown and falls after it (the breakdown is read off
+  // this curve); after a breakthrough the outer reservoir's, which the well then is.
+  void AddSeriesColumns(const LiveState&, std::vector<std::string>* columns) const override {
+    columns->push_back("well_pressure_pa");
+  }
+  void AddSample(const LiveState& s, std::vector<double>* row) const override {
+    const auto pressure = s.net.flow.pressure();
+    const std::int32_t node = s.net.well_domain >= 0 ? s.net.well_domain : s.net.outer_node;
+    row->push_back(node >= 0 ? pressure[static_cast<std::size_t>(node)]
+                             : s.scene->boundary.initial_pressure_pa);
+  }
 
  private:
   InjectionEffectState state_;

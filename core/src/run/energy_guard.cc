@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace seep::core {
 namespace {
@@ -48,12 +49,24 @@ void EnergyGuard::Setup(const LiveState& s) {
 void EnergyGuard::Start(const LiveState& s) {
   Setup(s);
   if (!active_) return;
-  state_ = EnergyGuardState{};
   state_.initial_j = KineticEnergy(s.particles) + ContactEnergyBound(s);
   state_.gravity_moment_j = GravityMoment(s);
+  state_.work_j = 0.0;
+  state_.fluid_work_j = 0.0;
+  const std::vector<DemWallLoad>& loads = s.contacts->wall_loads();
+  state_.wall_load.assign(s.walls.size(), 0.0);
+  for (std::size_t w = 0; w < s.walls.size() && w < loads.size(); ++w) {
+    state_.wall_load[w] = loads[w].normal_force;
+  }
+  state_.held_fx.assign(held_.size(), 0.0);
+  state_.held_fy.assign(held_.size(), 0.0);
+  for (std::size_t k = 0; k < held_.size(); ++k) {
+    HeldContactForce(s, held_[k], &state_.held_fx[k], &state_.held_fy[k]);
+  }
+  // The fluid's forces at the start were taken around the initial forces (fluid_fx, fluid_fy).
 }
 
-Status EnergyGuard::Validate(const EnergyGuardState& in) {
+Status EnergyGuard::Validate(const EnergyGuardState& in, const LiveState& s) const {
   for (const auto& [field, value] :
        {std::pair{"initial_j", in.initial_j}, std::pair{"gravity_moment_j", in.gravity_moment_j},
         std::pair{"work_j", in.work_j}, std::pair{"fluid_work_j", in.fluid_work_j}}) {
@@ -62,16 +75,50 @@ Status EnergyGuard::Validate(const EnergyGuardState& in) {
           fmt::format("snapshot.mechanics.energy_guard.{}: must be finite (got {})", field, value));
     }
   }
+  std::size_t held = 0;
+  for (const std::uint8_t f : s.particles.fixed) held += f;
+  const std::size_t fluid = FindEffect<FluidForcesEffectSpec>(*s.scene) ? s.particles.size() : 0;
+  for (const auto& [field, values, size] :
+       {std::tuple{"wall_load", &in.wall_load, s.walls.size()},
+        std::tuple{"held_fx", &in.held_fx, held}, std::tuple{"held_fy", &in.held_fy, held},
+        std::tuple{"fluid_fx", &in.fluid_fx, fluid}, std::tuple{"fluid_fy", &in.fluid_fy, fluid}}) {
+    if (values->size() != size) {
+      return DataLoss(
+          fmt::format("snapshot.mechanics.energy_guard.{}: {} values, this scene has {}", field,
+                      values->size(), size));
+    }
+    for (const double v : *values) {
+      if (!std::isfinite(v)) {
+        return DataLoss(
+            fmt::format("snapshot.mechanics.energy_guard.{}: must be finite (got {})", field, v));
+      }
+    }
+  }
   return Status::Ok();
 }
 
 void EnergyGuard::RestoreFrom(const std::optional<EnergyGuardState>& in, const LiveState& s) {
   if (!in) {
+    // A checkpoint written before the guard kept its account: it starts from here, and its first
+    // step takes the fluid's forces without work (the ones it holds are the set-up's).
     Start(s);
+    state_.fluid_fx.clear();
+    state_.fluid_fy.clear();
     return;
   }
   Setup(s);
   state_ = *in;
+}
+
+void EnergyGuard::HeldContactForce(const LiveState& s, std::size_t i, double* fx,
+                                   double* fy) const {
+  const DemParticles& p = s.particles;
+  *fx = p.fx[i] - p.mass[i] * gravity_x_;
+  *fy = p.fy[i] - p.mass[i] * gravity_y_;
+  if (!state_.fluid_fx.empty()) {
+    *fx -= state_.fluid_fx[i];
+    *fy -= state_.fluid_fy[i];
+  }
 }
 
 void EnergyGuard::AddStepWork(const LiveState& s, double dt) {
@@ -83,41 +130,50 @@ void EnergyGuard::AddStepWork(const LiveState& s, double dt) {
   const std::vector<DemWallLoad>& loads = s.contacts->wall_loads();
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const DemWall& wall = s.walls[w];
+    const double load = w < loads.size() ? loads[w].normal_force : 0.0;
     const double speed = wall.vx * wall.nx + wall.vy * wall.ny;
-    if (speed == 0.0) continue;
-    if (w < loads.size()) work += loads[w].normal_force * speed * dt;
+    work += 0.5 * (state_.wall_load[w] + load) * speed * dt;
+    state_.wall_load[w] = load;
   }
   // A held particle pushes the others with the reaction of what their contacts do to it (its
   // weight and its fluid forces act on it alone).
   const DemParticles& p = s.particles;
-  const bool fluid = !before_fx_.empty();
-  for (const std::uint32_t i : held_) {
-    double fx = p.fx[i] - p.mass[i] * gravity_x_;
-    double fy = p.fy[i] - p.mass[i] * gravity_y_;
-    if (fluid) {
-      fx -= p.fx[i] - before_fx_[i];
-      fy -= p.fy[i] - before_fy_[i];
-    }
-    work -= (fx * p.vx[i] + fy * p.vy[i] + p.torque[i] * p.omega[i]) * dt;
+  for (std::size_t k = 0; k < held_.size(); ++k) {
+    const std::uint32_t i = held_[k];
+    double fx = 0.0, fy = 0.0;
+    HeldContactForce(s, i, &fx, &fy);
+    work -= (0.5 * (state_.held_fx[k] + fx) * p.vx[i] + 0.5 * (state_.held_fy[k] + fy) * p.vy[i] +
+             p.torque[i] * p.omega[i]) *
+            dt;
+    state_.held_fx[k] = fx;
+    state_.held_fy[k] = fy;
   }
   state_.work_j += work;
 }
 
 void EnergyGuard::BeforeFluidForces(const LiveState& s) {
-  if (!active_) return;
   before_fx_ = s.particles.fx;
   before_fy_ = s.particles.fy;
 }
 
 void EnergyGuard::AfterFluidForces(const LiveState& s, double dt) {
-  if (!active_) return;
   const DemParticles& p = s.particles;
+  const bool first = state_.fluid_fx.size() != p.size();
+  if (first) {
+    state_.fluid_fx.assign(p.size(), 0.0);
+    state_.fluid_fy.assign(p.size(), 0.0);
+  }
   double power = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.fixed[i]) continue;
-    power += (p.fx[i] - before_fx_[i]) * p.vx[i] + (p.fy[i] - before_fy_[i]) * p.vy[i];
+    const double fx = p.fx[i] - before_fx_[i];
+    const double fy = p.fy[i] - before_fy_[i];
+    if (!p.fixed[i]) {
+      power += 0.5 * ((state_.fluid_fx[i] + fx) * p.vx[i] + (state_.fluid_fy[i] + fy) * p.vy[i]);
+    }
+    state_.fluid_fx[i] = fx;
+    state_.fluid_fy[i] = fy;
   }
-  state_.fluid_work_j += power * dt;
+  if (!first) state_.fluid_work_j += power * dt;
 }
 
 double EnergyGuard::Budget(const LiveState& s) const {

@@ -218,7 +218,12 @@ Status Stepper::InitialForces() {
   StepInfo info;
   info.dt = dt_;
   for (const std::size_t k : force_) {
-    SEEP_RETURN_IF_ERROR(effects_.all[k]->AddForces(state_, info));
+    Effect& e = *effects_.all[k];
+    // The fluid's forces at the start: the energy guard's first step averages with them.
+    const bool fluid = &e == effects_.fluid_forces;
+    if (fluid) guard_.BeforeFluidForces(state_);
+    SEEP_RETURN_IF_ERROR(e.AddForces(state_, info));
+    if (fluid) guard_.AfterFluidForces(state_, 0.0);
   }
   for (const std::size_t k : post_force_) {
     SEEP_RETURN_IF_ERROR(effects_.all[k]->PostForce(state_, info));

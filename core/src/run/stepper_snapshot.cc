@@ -204,7 +204,7 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   }
   SEEP_RETURN_IF_ERROR(CheckLedger(snap.ledger, state_.books.ledger.left_m2.size()));
   if (snap.mechanics && snap.mechanics->energy_guard) {
-    SEEP_RETURN_IF_ERROR(EnergyGuard::Validate(*snap.mechanics->energy_guard));
+    SEEP_RETURN_IF_ERROR(guard_.Validate(*snap.mechanics->energy_guard, state_));
   }
   if (snap.series.columns != series_.columns ||
       snap.series.values.size() % series_.columns.size() != 0) {

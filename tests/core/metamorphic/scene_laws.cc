@@ -30,12 +30,29 @@ struct Outcome {
   double mean_radius = 0.0;
   double dt = 0.0;
   // Per step, the discrete events so far: contacts evaluated (disk pairs and disk-wall), bonds
-  // broken and re-detections. Two runs whose counts part have met a discontinuity of the model
-  // (a contact's onset, where its dashpot engages at once; a bond's strength) on different sides.
-  std::vector<std::array<std::uint64_t, 4>> events;
+  // broken and re-detections, and the bonds open across a gap that carry a compressive force now.
+  // Two runs whose counts part have met a discontinuity of the model on different sides: a
+  // contact's onset, where its dashpot engages at once; a bond's strength; the aperture law's
+  // branch, which the force's sign picks (aperture_law.h), so that a bond at rest across a gap
+  // has a = a0 + m g at F = 0 and a0 at F = +1e-20 N/m, a rounding's force (seed 4306's mirror:
+  // 0.085 Pa after two steps).
+  std::vector<std::array<std::uint64_t, 5>> events;
 };
 
 namespace {
+
+// Bonded pairs apart (gap > 0) whose normal force is compressive: the aperture law takes its
+// force branch for them, its gap branch at F <= 0.
+std::uint64_t OpenBondsInCompression(const LiveState& live) {
+  if (!live.contacts) return 0;
+  static thread_local std::vector<DemContactRecord> contacts;
+  live.contacts->CollectContacts(&contacts);
+  std::uint64_t count = 0;
+  for (const DemContactRecord& c : contacts) {
+    count += (c.bonded && c.gap > 0.0 && c.normal_force > 0.0) ? 1 : 0;
+  }
+  return count;
+}
 
 // Runs `scene` for `steps` steps (a steady scene: its one solve), stopped at `stop_at` (0: not)
 // and resumed from that snapshot in a new simulation when asked.
@@ -54,8 +71,8 @@ Outcome RunScene(const SceneSpec& scene, std::uint64_t steps, std::uint64_t stop
     control.at_step_end = [&](const Simulation& at) {
       const LiveState& live = at.stepper().state();
       const DemCounters& dem = live.counters.dem;
-      out.events.push_back(
-          {dem.pair_evaluations, dem.wall_evaluations, dem.bonds_broken, live.topology_version});
+      out.events.push_back({dem.pair_evaluations, dem.wall_evaluations, dem.bonds_broken,
+                            live.topology_version, OpenBondsInCompression(live)});
       if (at.step() >= last) stop.request_stop();
     };
     const Status status = s.Run(control);

@@ -29,12 +29,17 @@ struct TimeSeries {
 
 // The energy guard's account (run/energy_guard.h), J per m of thickness: what the disks held at
 // the start, gravity's moment sum m_i g.x_i then, and the work of walls and held particles and of
-// the pore fluid since.
+// the pore fluid since; and the last step's forces that the next step's work averages with.
 struct EnergyGuardState {
   double initial_j = 0.0;
   double gravity_moment_j = 0.0;
   double work_j = 0.0;
   double fluid_work_j = 0.0;
+  // The forces of the last step, which each step's work averages with its own (the trapezoid rule
+  // is exact for a spring; the step's end force alone loses k dx^2 / 2 a step): per wall its
+  // contacts' load, per held particle its contacts' force (x, y), per particle the pore fluid's
+  // force (x, y; empty without fluid forces).
+  std::vector<double> wall_load, held_fx, held_fy, fluid_fx, fluid_fy;
 };
 
 // The state of a scene whose particles move (the contacts effect): the live state the stepper owns
