@@ -225,10 +225,7 @@ class InjectionEffect final : public EffectWithSpec<InjectionEffectSpec> {
     columns->push_back("well_pressure_pa");
   }
   void AddSample(const LiveState& s, std::vector<double>* row) const override {
-    const auto pressure = s.net.flow.pressure();
-    const std::int32_t node = s.net.well_domain >= 0 ? s.net.well_domain : s.net.outer_node;
-    row->push_back(node >= 0 ? pressure[static_cast<std::size_t>(node)]
-                             : s.scene->boundary.initial_pressure_pa);
+    row->push_back(WellPressure(s.net).value_or(s.scene->boundary.initial_pressure_pa));
   }
 
  private:

@@ -231,6 +231,13 @@ void AddDrainedWalls(const SceneSpec& scene, SceneNetwork& net, FlowNetworkData&
 
 }  // namespace
 
+std::optional<double> WellPressure(const SceneNetwork& net) {
+  const auto pressure = net.flow.pressure();
+  if (net.well_domain >= 0) return pressure[static_cast<std::size_t>(net.well_domain)];
+  if (net.outer_node >= 0) return pressure[static_cast<std::size_t>(net.outer_node)];
+  return std::nullopt;
+}
+
 double WallDrainConductance(const SceneSpec& scene, std::size_t wall, double length) {
   const auto* walls = FindEffect<WallsEffectSpec>(scene);
   if (walls == nullptr || wall >= walls->walls.size()) return 0.0;

@@ -27,7 +27,8 @@ double ContactEnergyBound(const LiveState& s) {
 
 }  // namespace
 
-void EnergyGuard::Setup(const LiveState& s) {
+void EnergyGuard::Start(const LiveState& s) {
+  // What follows from the scene alone: gravity, the held particles, the floor.
   active_ = s.moves();
   if (!active_) return;
   if (const auto* gravity = FindEffect<GravityEffectSpec>(*s.scene)) {
@@ -44,11 +45,7 @@ void EnergyGuard::Setup(const LiveState& s) {
   const double n = static_cast<double>(p.size());
   const double nudge = 1e-6 * (n > 0.0 ? radius_sum / n : 0.0);
   floor_j_ = n * 0.5 * FindEffect<ContactsEffectSpec>(*s.scene)->law.kn * nudge * nudge;
-}
-
-void EnergyGuard::Start(const LiveState& s) {
-  Setup(s);
-  if (!active_) return;
+  // The account.
   state_.initial_j = KineticEnergy(s.particles) + ContactEnergyBound(s);
   state_.gravity_moment_j = GravityMoment(s);
   state_.work_j = 0.0;
@@ -75,8 +72,7 @@ Status EnergyGuard::Validate(const EnergyGuardState& in, const LiveState& s) con
           fmt::format("snapshot.mechanics.energy_guard.{}: must be finite (got {})", field, value));
     }
   }
-  std::size_t held = 0;
-  for (const std::uint8_t f : s.particles.fixed) held += f;
+  const std::size_t held = held_.size();  // set up at Start, for this scene
   const std::size_t fluid = FindEffect<FluidForcesEffectSpec>(*s.scene) ? s.particles.size() : 0;
   for (const auto& [field, values, size] :
        {std::tuple{"wall_load", &in.wall_load, s.walls.size()},
@@ -106,8 +102,7 @@ void EnergyGuard::RestoreFrom(const std::optional<EnergyGuardState>& in, const L
     state_.fluid_fy.clear();
     return;
   }
-  Setup(s);
-  state_ = *in;
+  state_ = *in;  // the rest was set up at Start, for this scene
 }
 
 void EnergyGuard::HeldContactForce(const LiveState& s, std::size_t i, double* fx,
@@ -151,29 +146,34 @@ void EnergyGuard::AddStepWork(const LiveState& s, double dt) {
   state_.work_j += work;
 }
 
+// The last step's fluid forces are read once (their power at this step's velocity) and their slots
+// then hold minus the forces so far, so that the effect's forces are what its pass adds to them:
+// no copy of the force arrays.
 void EnergyGuard::BeforeFluidForces(const LiveState& s) {
-  before_fx_ = s.particles.fx;
-  before_fy_ = s.particles.fy;
-}
-
-void EnergyGuard::AfterFluidForces(const LiveState& s, double dt) {
   const DemParticles& p = s.particles;
-  const bool first = state_.fluid_fx.size() != p.size();
-  if (first) {
+  first_fluid_pass_ = state_.fluid_fx.size() != p.size();
+  if (first_fluid_pass_) {
     state_.fluid_fx.assign(p.size(), 0.0);
     state_.fluid_fy.assign(p.size(), 0.0);
   }
   double power = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double fx = p.fx[i] - before_fx_[i];
-    const double fy = p.fy[i] - before_fy_[i];
-    if (!p.fixed[i]) {
-      power += 0.5 * ((state_.fluid_fx[i] + fx) * p.vx[i] + (state_.fluid_fy[i] + fy) * p.vy[i]);
-    }
-    state_.fluid_fx[i] = fx;
-    state_.fluid_fy[i] = fy;
+    if (!p.fixed[i]) power += state_.fluid_fx[i] * p.vx[i] + state_.fluid_fy[i] * p.vy[i];
+    state_.fluid_fx[i] = -p.fx[i];
+    state_.fluid_fy[i] = -p.fy[i];
   }
-  if (!first) state_.fluid_work_j += power * dt;
+  last_fluid_power_ = power;
+}
+
+void EnergyGuard::AfterFluidForces(const LiveState& s, double dt) {
+  const DemParticles& p = s.particles;
+  double power = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    state_.fluid_fx[i] += p.fx[i];
+    state_.fluid_fy[i] += p.fy[i];
+    if (!p.fixed[i]) power += state_.fluid_fx[i] * p.vx[i] + state_.fluid_fy[i] * p.vy[i];
+  }
+  if (!first_fluid_pass_) state_.fluid_work_j += 0.5 * (last_fluid_power_ + power) * dt;
 }
 
 double EnergyGuard::Budget(const LiveState& s) const {

@@ -72,14 +72,6 @@ bool ServosHold(const LiveState& s, double tolerance) {
   return any;
 }
 
-// The well's pressure, or the outer reservoir's once the well merged into it (breakthrough).
-std::optional<double> WellPressure(const LiveState& s) {
-  const auto pressure = s.net.flow.pressure();
-  if (s.net.well_domain >= 0) return pressure[static_cast<std::size_t>(s.net.well_domain)];
-  if (s.net.outer_node >= 0) return pressure[static_cast<std::size_t>(s.net.outer_node)];
-  return std::nullopt;
-}
-
 }  // namespace
 
 StageControls ControlsOf(const SceneSpec& scene) {
@@ -226,7 +218,7 @@ StageOutcome StageProgram::AfterStep(const LiveState& s, const StepInfo& info, b
   }
   std::optional<double> well;
   if (FindCondition<WellPressurePastPeakEnd>(stage) != nullptr && info.flow_update) {
-    well = WellPressure(s);
+    well = WellPressure(s.net);
     if (well && (!state_.peak_well_pressure_pa || *well > *state_.peak_well_pressure_pa)) {
       state_.peak_well_pressure_pa = *well;
     }

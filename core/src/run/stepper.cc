@@ -217,17 +217,21 @@ std::vector<double> Stepper::ReportedPoreVolumes() const {
 Status Stepper::InitialForces() {
   StepInfo info;
   info.dt = dt_;
-  for (const std::size_t k : force_) {
-    Effect& e = *effects_.all[k];
-    // The fluid's forces at the start: the energy guard's first step averages with them.
-    const bool fluid = &e == effects_.fluid_forces;
-    if (fluid) guard_.BeforeFluidForces(state_);
-    SEEP_RETURN_IF_ERROR(e.AddForces(state_, info));
-    if (fluid) guard_.AfterFluidForces(state_, 0.0);
-  }
+  // With dt 0 the energy guard takes the fluid's forces at the start (its first step's work
+  // averages with them) and no work.
+  for (const std::size_t k : force_) SEEP_RETURN_IF_ERROR(AddForcesOf(k, info, 0.0));
   for (const std::size_t k : post_force_) {
     SEEP_RETURN_IF_ERROR(effects_.all[k]->PostForce(state_, info));
   }
+  return Status::Ok();
+}
+
+Status Stepper::AddForcesOf(std::size_t k, const StepInfo& info, double guard_dt) {
+  Effect& e = *effects_.all[k];
+  if (&e != effects_.fluid_forces || !state_.moves()) return e.AddForces(state_, info);
+  guard_.BeforeFluidForces(state_);
+  SEEP_RETURN_IF_ERROR(e.AddForces(state_, info));
+  guard_.AfterFluidForces(state_, guard_dt);
   return Status::Ok();
 }
 
@@ -423,11 +427,7 @@ Status Stepper::Step() {
     }
   }
   for (const std::size_t k : force_) {
-    Effect& e = *effects_.all[k];
-    const bool fluid = moves && &e == effects_.fluid_forces;
-    if (fluid) guard_.BeforeFluidForces(s);
-    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.AddForces(s, info); }));
-    if (fluid) guard_.AfterFluidForces(s, dt_);
+    SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return AddForcesOf(k, info, dt_); }));
   }
   // The walls moved with the velocities the servos set last step; the loads are this step's.
   if (moves) guard_.AddStepWork(s, dt_);

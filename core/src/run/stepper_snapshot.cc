@@ -154,9 +154,7 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
   out->fluid_limited_dt = fluid_limited_dt_;
   out->flow_every = flow_every_;
   for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
-  EnergyGuardState guard;
-  guard_.SaveTo(&guard);
-  out->energy_guard = guard;
+  guard_.SaveTo(&out->energy_guard.emplace());
 }
 
 Status Stepper::Restore(const SimulationSnapshot& snap) {

@@ -45,7 +45,7 @@ namespace {
 // force branch for them, its gap branch at F <= 0.
 std::uint64_t OpenBondsInCompression(const LiveState& live) {
   if (!live.contacts) return 0;
-  static thread_local std::vector<DemContactRecord> contacts;
+  std::vector<DemContactRecord> contacts;
   live.contacts->CollectContacts(&contacts);
   std::uint64_t count = 0;
   for (const DemContactRecord& c : contacts) {

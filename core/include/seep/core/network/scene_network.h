@@ -45,6 +45,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "seep/core/flow/aperture_law.h"
@@ -158,6 +159,10 @@ ApertureLaw SceneApertureLaw(const SceneSpec& scene);
 // The conductance of the pipe a stretch of `length` of wall `wall` gives into its platen: the
 // drain's conductance x the length for a drained wall, 0 for an impermeable one (or no walls).
 double WallDrainConductance(const SceneSpec& scene, std::size_t wall, double length);
+
+// The well's pressure, or the outer reservoir's once the well merged into it (breakthrough);
+// none without either.
+std::optional<double> WellPressure(const SceneNetwork& net);
 
 // The gap of a detection contact id (a wall edge's from the detection's wall table).
 double DetectionContactGap(const SceneNetwork& net, std::int32_t contact);

@@ -8,14 +8,14 @@
 //   E_0  K and the contacts' strain energy at the start, the latter bounded above by
 //        sum F_n^2 / (2 k_n) + F_s^2 / (2 k_t) over disk and wall contacts (a bond is stiffer
 //        than k_n, so this overestimates its share);
-//   W    the work done on the disks since: by each wall's motion against its contacts' load, by
-//   held particles against their contacts, by the pore fluid's forces
-//        (pressure and buoyancy, F . v dt on every free disk, each step) and by gravity (the exact
-//        sum m_i g.(x_i - x_i0)).
+//   W    the work done on the disks since (each step by the trapezoid rule, exact for a spring):
+//        by each wall's motion against its contacts' load, by held particles against their
+//        contacts, by the pore fluid's forces (pressure and buoyancy, on every free disk) and by
+//        gravity (the exact sum m_i g.(x_i - x_i0)).
 // The pore fluid counts as a load from outside: what it gives the disks is work, whatever made its
 // pressure (a reservoir, an injection, the pores' own compression). The contacts' strain energy
 // now is left out of the left side (it is >= 0): the check costs one pass over the particles every
-// kCheckEvery steps; the fluid's work one pass every step with fluid forces.
+// kCheckEvery steps; the fluid's work two passes every step with fluid forces (no copy).
 //
 // An unstable step makes energy: its mode grows by a factor each step and soon exceeds any bound
 // (the main example at dt_safety 1.0 holds 0.38 J/m at step 8, 3.5e6 times its floor, with nothing
@@ -54,7 +54,7 @@ class EnergyGuard {
   // step's, the walls' velocities those they moved with): the work of walls and held particles.
   void AddStepWork(const LiveState& s, double dt);
   // Around the fluid forces effect's AddForces (the initial forces' too, with dt 0): its forces are
-  // the difference, their work on the free disks (F_last + F) / 2 . v dt (v the step's half-kick
+  // what it adds, their work on the free disks (F_last + F) / 2 . v dt (v the step's half-kick
   // velocity: the drift this step made).
   void BeforeFluidForces(const LiveState& s);
   void AfterFluidForces(const LiveState& s, double dt);
@@ -67,13 +67,12 @@ class EnergyGuard {
   // DATA_LOSS naming the first value of a snapshot's account that is not finite, or a force list
   // whose length does not fit this scene (walls, held particles, particles with fluid forces).
   Status Validate(const EnergyGuardState& in, const LiveState& s) const;
-  // After the rest of a restore: the snapshot's (validated) account; a snapshot without one
-  // (written before the guard kept it) starts it again from the restored state.
+  // After the rest of a restore (Start ran at set-up): the snapshot's (validated) account; a
+  // snapshot without one (written before the guard kept it) starts it again from the restored
+  // state.
   void RestoreFrom(const std::optional<EnergyGuardState>& in, const LiveState& s);
 
  private:
-  // What follows from the scene and the state alone: gravity, the held particles, the floor.
-  void Setup(const LiveState& s);
   // E_0 + W now.
   double Budget(const LiveState& s) const;
   // Sum m_i g.x_i over the free particles (gravity's potential, with its sign reversed).
@@ -84,8 +83,11 @@ class EnergyGuard {
   bool active_ = false;
   double gravity_x_ = 0.0, gravity_y_ = 0.0;  // m/s^2
   double floor_j_ = 0.0;
-  std::vector<std::uint32_t> held_;            // the held particles
-  std::vector<double> before_fx_, before_fy_;  // the forces before the fluid's, this step
+  std::vector<std::uint32_t> held_;  // the held particles
+  // Between BeforeFluidForces and AfterFluidForces: the last step's fluid forces' power at this
+  // step's velocities, and whether there was no last step.
+  double last_fluid_power_ = 0.0;
+  bool first_fluid_pass_ = false;
   EnergyGuardState state_;
 };
 

@@ -131,6 +131,9 @@ class Stepper {
   Result<std::uint64_t> ClockTotalSteps(const MechanicsSnapshot& clock, std::uint64_t step) const;
   // Forces of the initial state, so that the first half-kick has them (velocity-Verlet).
   Status InitialForces();
+  // Force effect k's AddForces; around the fluid forces' (moving scenes) the energy guard takes
+  // their work over a step of guard_dt.
+  Status AddForcesOf(std::size_t k, const StepInfo& info, double guard_dt);
   Status CheckParticlesFinite(std::uint64_t step) const;
   StepInfo NextStep() const;
   void Sample();
