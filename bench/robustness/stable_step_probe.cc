@@ -26,6 +26,7 @@
 
 #include "codec/scene_codec.h"
 #include "scene_file.h"
+#include "seep/core/run/reversal_guard.h"
 #include "seep/core/run/simulation.h"
 #include "seep/v1/scene.pb.h"
 
@@ -146,8 +147,8 @@ int main(int argc, char** argv) {
       wall_columns.push_back(c);
     }
   }
-  std::printf("%10s %12s %8s %12s %12s %10s", "step", "time_s", "broken", "checker_pa", "kinetic_j",
-              "energy_ratio");
+  std::printf("%10s %12s %8s %12s %12s %10s %10s", "step", "time_s", "broken", "checker_pa",
+              "kinetic_j", "energy_ratio", "reversal");
   for (const std::string& c : wall_columns) std::printf(" %s", c.c_str());
   std::printf("\n");
   std::vector<Row> rows;
@@ -159,10 +160,11 @@ int main(int argc, char** argv) {
     if (s.step() % every != 0) return;
     const Row row{s.step(), s.time_s(), CheckerboardAmplitude(s)};
     rows.push_back(row);
-    std::printf("%10llu %12.6g %8.0f %12.5g %12.5g %10.4g",
+    std::printf("%10llu %12.6g %8.0f %12.5g %12.5g %10.4g %10.4g",
                 static_cast<unsigned long long>(row.step), row.time_s, Column(s, "bonds_broken"),
                 row.checkerboard, seep::core::KineticEnergy(s.stepper().state().particles),
-                s.stepper().EnergyRatio());
+                s.stepper().EnergyRatio(),
+                seep::core::ReversalGuard::DiskRatio(s.stepper().state().particles, s.dt_s()));
     for (const std::string& c : wall_columns) std::printf(" %.5g", Column(s, c));
     const seep::core::LiveState& live = s.stepper().state();
     for (std::size_t w = 0; w < live.walls.size(); ++w) {

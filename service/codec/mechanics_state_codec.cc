@@ -182,6 +182,12 @@ void MechanicsStateToProto(const core::MechanicsSnapshot& snapshot, v1::Mechanic
     out->mutable_energy_guard_fluid_fx()->Assign(g->fluid_fx.begin(), g->fluid_fx.end());
     out->mutable_energy_guard_fluid_fy()->Assign(g->fluid_fy.begin(), g->fluid_fy.end());
   }
+  if (const auto& r = snapshot.reversal_guard) {
+    v1::ReversalGuardState* g = out->mutable_reversal_guard();
+    g->set_disk_checks(r->disk_checks);
+    g->mutable_wall_speed()->Assign(r->wall_speed.begin(), r->wall_speed.end());
+    g->mutable_wall_reversals()->Assign(r->wall_reversals.begin(), r->wall_reversals.end());
+  }
   ContactsToProto(snapshot.contacts, out->mutable_contacts());
 }
 
@@ -235,6 +241,14 @@ core::MechanicsSnapshot MechanicsStateFromProto(const v1::MechanicsState& state)
     guard.fluid_fy.assign(state.energy_guard_fluid_fy().begin(),
                           state.energy_guard_fluid_fy().end());
     snap.energy_guard = std::move(guard);
+  }
+  if (state.has_reversal_guard()) {
+    const v1::ReversalGuardState& g = state.reversal_guard();
+    core::ReversalGuardState guard;
+    guard.disk_checks = g.disk_checks();
+    guard.wall_speed.assign(g.wall_speed().begin(), g.wall_speed().end());
+    guard.wall_reversals.assign(g.wall_reversals().begin(), g.wall_reversals().end());
+    snap.reversal_guard = std::move(guard);
   }
   snap.contacts = ContactsFromProto(state.contacts());
   return snap;

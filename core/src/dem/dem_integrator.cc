@@ -22,25 +22,42 @@ void GravityRange(std::ptrdiff_t begin, std::ptrdiff_t end, double gx, double gy
 }
 
 // -alpha |f| sign(v), with sign(v) = 0 at rest: for |v| at most kRestFraction of the velocity
-// the force gives in one step, |f| dt / m (`step_gain` = dt / m or dt / I).
-inline double Damped(double f, double v, double alpha, double step_gain) {
+// the force gives in one step, |f| dt / m (`step_gain` = dt / m or dt / I). Counts in *at_rest
+// the loaded components taken as at rest (the force's one-step velocity above `loaded_speed`):
+// the side of the threshold a rounding can change, where it matters.
+inline double Damped(double f, double v, double alpha, double step_gain, double loaded_speed,
+                     double* at_rest) {
   const double magnitude = std::abs(f);
-  if (std::abs(v) <= kRestFraction * magnitude * step_gain) return f;
+  if (std::abs(v) <= kRestFraction * magnitude * step_gain) {
+    *at_rest += magnitude * step_gain > loaded_speed ? 1.0 : 0.0;
+    return f;
+  }
   const double d = alpha * magnitude;
   return v > 0.0 ? f - d : f + d;
 }
 
-void DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, double dt,
-                  double* __restrict fx, double* __restrict fy, double* __restrict torque,
-                  const double* __restrict vx, const double* __restrict vy,
-                  const double* __restrict omega, const double* __restrict inv_mass,
-                  const double* __restrict inv_inertia) {
+// A force is loaded, for the count of components at rest, when it moves its particle by more than
+// this fraction of its radius (a torque: of a radian) in one step: below it, the force is the
+// rounding of balanced contact forces (a lattice's symmetric disks: 1e-16 of them) and damped or
+// not changes nothing a law can see.
+constexpr double kLoadedFraction = 1e-12;
+
+// Returns the count of loaded components at rest.
+double DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, double dt,
+                    double* __restrict fx, double* __restrict fy, double* __restrict torque,
+                    const double* __restrict vx, const double* __restrict vy,
+                    const double* __restrict omega, const double* __restrict inv_mass,
+                    const double* __restrict inv_inertia, const double* __restrict radius) {
+  double at_rest = 0.0;
+  const double loaded_spin = kLoadedFraction / dt;
   for (std::ptrdiff_t i = begin; i < end; ++i) {
     const double translation = dt * inv_mass[i];
-    fx[i] = Damped(fx[i], vx[i], alpha, translation);
-    fy[i] = Damped(fy[i], vy[i], alpha, translation);
-    torque[i] = Damped(torque[i], omega[i], alpha, dt * inv_inertia[i]);
+    const double loaded_speed = kLoadedFraction * radius[i] / dt;
+    fx[i] = Damped(fx[i], vx[i], alpha, translation, loaded_speed, &at_rest);
+    fy[i] = Damped(fy[i], vy[i], alpha, translation, loaded_speed, &at_rest);
+    torque[i] = Damped(torque[i], omega[i], alpha, dt * inv_inertia[i], loaded_spin, &at_rest);
   }
+  return at_rest;
 }
 
 }  // namespace
@@ -55,11 +72,16 @@ void AddGravity(DemParticles* p, double gx, double gy, DemCounters* counters) {
 
 void ApplyLocalDamping(DemParticles* p, double alpha, double dt, DemCounters* counters) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p->size());
-  dem_internal::ForEachShare(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    DampingRange(begin, end, alpha, dt, p->fx.data(), p->fy.data(), p->torque.data(), p->vx.data(),
-                 p->vy.data(), p->omega.data(), p->inv_mass.data(), p->inv_inertia.data());
-  });
-  if (counters != nullptr) counters->local_damping_applications += static_cast<std::uint64_t>(n);
+  const double at_rest =
+      dem_internal::SumOverShares(n, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+        return DampingRange(begin, end, alpha, dt, p->fx.data(), p->fy.data(), p->torque.data(),
+                            p->vx.data(), p->vy.data(), p->omega.data(), p->inv_mass.data(),
+                            p->inv_inertia.data(), p->radius.data());
+      });
+  if (counters != nullptr) {
+    counters->local_damping_applications += static_cast<std::uint64_t>(n);
+    counters->local_damping_at_rest += static_cast<std::uint64_t>(at_rest);
+  }
 }
 
 namespace {

@@ -12,6 +12,7 @@ using internal::MaxOverShares;
 using internal::MinParallelItems;
 using internal::OnTeam;
 using internal::RunOnTeam;
+using internal::SumOverShares;
 using internal::TeamMember;
 
 }  // namespace seep::core::dem_internal

@@ -114,6 +114,7 @@ Result<std::unique_ptr<Stepper>> Stepper::Create(const SceneSpec& scene, SceneNe
   if (s.moves()) {
     SEEP_RETURN_IF_ERROR(stepper->InitialForces());
     stepper->guard_.Start(s);
+    stepper->reversals_.Start(s);
   }
   stepper->Sample();  // the initial state is the first row
   return stepper;
@@ -430,7 +431,10 @@ Status Stepper::Step() {
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return AddForcesOf(k, info, dt_); }));
   }
   // The walls moved with the velocities the servos set last step; the loads are this step's.
-  if (moves) guard_.AddStepWork(s, dt_);
+  if (moves) {
+    guard_.AddStepWork(s, dt_);
+    reversals_.AddStep(s);
+  }
   for (const std::size_t k : post_force_) {
     Effect& e = *effects_.all[k];
     SEEP_RETURN_IF_ERROR(Timed(&effect_seconds_[k], [&] { return e.PostForce(s, info); }));
@@ -469,7 +473,9 @@ Status Stepper::Step() {
     if (outcome.kind == StageOutcome::Kind::kEnded) EndStage(outcome.ended_by);
   }
   if (moves && (step_ % EnergyGuard::kCheckEvery == 0 || finished())) {
-    SEEP_RETURN_IF_ERROR(guard_.Check(s, step_, FindEffect<ContactsEffectSpec>(scene_)->dt_safety));
+    const double dt_safety = FindEffect<ContactsEffectSpec>(scene_)->dt_safety;
+    SEEP_RETURN_IF_ERROR(guard_.Check(s, step_, dt_safety));
+    SEEP_RETURN_IF_ERROR(reversals_.Check(s, step_, dt_, dt_safety));
   }
   if (step_ % sample_every_ == 0 || finished()) Sample();
   return Status::Ok();

@@ -155,6 +155,7 @@ void Stepper::SaveMechanics(MechanicsSnapshot* out) const {
   out->flow_every = flow_every_;
   for (const auto& effect : effects_.all) effect->SaveTo(&out->effects);
   guard_.SaveTo(&out->energy_guard.emplace());
+  reversals_.SaveTo(&out->reversal_guard.emplace());
 }
 
 Status Stepper::Restore(const SimulationSnapshot& snap) {
@@ -204,6 +205,9 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   if (snap.mechanics && snap.mechanics->energy_guard) {
     SEEP_RETURN_IF_ERROR(guard_.Validate(*snap.mechanics->energy_guard, state_));
   }
+  if (snap.mechanics && snap.mechanics->reversal_guard) {
+    SEEP_RETURN_IF_ERROR(reversals_.Validate(*snap.mechanics->reversal_guard, state_));
+  }
   if (snap.series.columns != series_.columns ||
       snap.series.values.size() % series_.columns.size() != 0) {
     return DataLoss("snapshot.series: columns or row length differ from this scene's");
@@ -248,7 +252,10 @@ Status Stepper::Restore(const SimulationSnapshot& snap) {
   // The stage's settings of this moment, taken up again (idempotent: the same values the run
   // would apply at its next step); the fixed pressures over the snapshot's copies.
   if (program_.active()) SEEP_RETURN_IF_ERROR(ReconfigureAll());
-  if (snap.mechanics) guard_.RestoreFrom(snap.mechanics->energy_guard, state_);
+  if (snap.mechanics) {
+    guard_.RestoreFrom(snap.mechanics->energy_guard, state_);
+    reversals_.RestoreFrom(snap.mechanics->reversal_guard, state_);
+  }
   return Status::Ok();
 }
 

@@ -30,13 +30,15 @@ struct Outcome {
   double mean_radius = 0.0;
   double dt = 0.0;
   // Per step, the discrete events so far: contacts evaluated (disk pairs and disk-wall), bonds
-  // broken and re-detections, and the bonds open across a gap that carry a compressive force now.
+  // broken and re-detections, the bonds open across a gap that carry a compressive force now, and
+  // the loaded components local damping took as at rest.
   // Two runs whose counts part have met a discontinuity of the model on different sides: a
   // contact's onset, where its dashpot engages at once; a bond's strength; the aperture law's
   // branch, which the force's sign picks (aperture_law.h), so that a bond at rest across a gap
   // has a = a0 + m g at F = 0 and a0 at F = +1e-20 N/m, a rounding's force (seed 4306's mirror:
-  // 0.085 Pa after two steps).
-  std::vector<std::array<std::uint64_t, 5>> events;
+  // 0.085 Pa after two steps); local damping's rest threshold, where -alpha |f| sign(v) switches
+  // on at once (seed 3514's translation).
+  std::vector<std::array<std::uint64_t, 6>> events;
 };
 
 namespace {
@@ -72,7 +74,8 @@ Outcome RunScene(const SceneSpec& scene, std::uint64_t steps, std::uint64_t stop
       const LiveState& live = at.stepper().state();
       const DemCounters& dem = live.counters.dem;
       out.events.push_back({dem.pair_evaluations, dem.wall_evaluations, dem.bonds_broken,
-                            live.topology_version, OpenBondsInCompression(live)});
+                            live.topology_version, OpenBondsInCompression(live),
+                            dem.local_damping_at_rest});
       if (at.step() >= last) stop.request_stop();
     };
     const Status status = s.Run(control);

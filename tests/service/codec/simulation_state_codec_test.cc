@@ -157,6 +157,59 @@ TEST(SimulationStateCodec, DamagedStageRunStateIsDataLossNamingTheField) {
   }
 }
 
+// The stability guards' memory of a moving run (core/run/energy_guard.h, reversal_guard.h) survives
+// the trip bit-exact, so that a resumed run fails, or not, at the uninterrupted run's step; a
+// state written before the reversal guard was kept reads back without it (the guard restarts).
+TEST(SimulationStateCodec, TheStabilityGuardsRoundTripBitExact) {
+  core::SimulationSnapshot in = Sample();
+  core::MechanicsSnapshot& m = in.mechanics.emplace();
+  core::EnergyGuardState& energy = m.energy_guard.emplace();
+  energy.initial_j = 1.0 / 3.0;
+  energy.gravity_moment_j = -2.0 / 7.0;
+  energy.work_j = 1e-300 / 3.0;
+  energy.fluid_work_j = 0.1 + 0.2;
+  energy.wall_load = {1.0 / 9.0, -0.0};
+  energy.held_fx = {3.0 / 11.0};
+  energy.held_fy = {-5.0 / 13.0};
+  energy.fluid_fx = {1e-20 / 3.0, 2.0};
+  energy.fluid_fy = {-1e-20 / 7.0, -2.0};
+  core::ReversalGuardState& reversal = m.reversal_guard.emplace();
+  reversal.disk_checks = 1;
+  reversal.wall_speed = {0.02 / 3.0, -0.0};
+  reversal.wall_reversals = {31, 0};
+  auto out = ParseSimulationState(SerializeSimulationState(in));
+  ASSERT_TRUE(out.ok()) << out.status().ToString();
+  ASSERT_TRUE(out->mechanics && out->mechanics->energy_guard && out->mechanics->reversal_guard);
+  const core::EnergyGuardState& e = *out->mechanics->energy_guard;
+  for (const auto field :
+       {&core::EnergyGuardState::initial_j, &core::EnergyGuardState::gravity_moment_j,
+        &core::EnergyGuardState::work_j, &core::EnergyGuardState::fluid_work_j}) {
+    EXPECT_TRUE(SameBits(e.*field, energy.*field));
+  }
+  for (const auto field : {&core::EnergyGuardState::wall_load, &core::EnergyGuardState::held_fx,
+                           &core::EnergyGuardState::held_fy, &core::EnergyGuardState::fluid_fx,
+                           &core::EnergyGuardState::fluid_fy}) {
+    ASSERT_EQ((e.*field).size(), (energy.*field).size());
+    for (std::size_t k = 0; k < (e.*field).size(); ++k) {
+      EXPECT_TRUE(SameBits((e.*field)[k], (energy.*field)[k])) << k;
+    }
+  }
+  const core::ReversalGuardState& r = *out->mechanics->reversal_guard;
+  EXPECT_EQ(r.disk_checks, reversal.disk_checks);
+  ASSERT_EQ(r.wall_speed.size(), reversal.wall_speed.size());
+  for (std::size_t k = 0; k < r.wall_speed.size(); ++k) {
+    EXPECT_TRUE(SameBits(r.wall_speed[k], reversal.wall_speed[k])) << k;
+  }
+  EXPECT_EQ(r.wall_reversals, reversal.wall_reversals);
+
+  m.reversal_guard.reset();
+  auto older = ParseSimulationState(SerializeSimulationState(in));
+  ASSERT_TRUE(older.ok()) << older.status().ToString();
+  ASSERT_TRUE(older->mechanics);
+  EXPECT_FALSE(older->mechanics->reversal_guard.has_value());
+  EXPECT_TRUE(older->mechanics->energy_guard.has_value());
+}
+
 TEST(SimulationStateCodec, SerializationIsDeterministic) {
   EXPECT_EQ(SerializeSimulationState(Sample()), SerializeSimulationState(Sample()));
   core::SimulationSnapshot other = Sample();

@@ -21,8 +21,11 @@ struct DemCounters {
   // Body forces and motion.
   std::uint64_t gravity_applications = 0;        // particle-force updates by AddGravity
   std::uint64_t local_damping_applications = 0;  // particle updates by ApplyLocalDamping
-  std::uint64_t integrations = 0;                // particle updates by the integrator halves
-  std::uint64_t servo_updates = 0;               // servo-wall velocity updates
+  // Loaded force and torque components ApplyLocalDamping took as at rest (left undamped;
+  // dem_integrator.cc says which are loaded).
+  std::uint64_t local_damping_at_rest = 0;
+  std::uint64_t integrations = 0;   // particle updates by the integrator halves
+  std::uint64_t servo_updates = 0;  // servo-wall velocity updates
 };
 
 }  // namespace seep::core

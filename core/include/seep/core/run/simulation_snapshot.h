@@ -42,6 +42,15 @@ struct EnergyGuardState {
   std::vector<double> wall_load, held_fx, held_fy, fluid_fx, fluid_fy;
 };
 
+// The reversal guard's memory (run/reversal_guard.h): the checks in a row at which the disks'
+// reversal ratio passed its limit, and per wall the speed it moved with last step and the steps in
+// a row its servo reversed it.
+struct ReversalGuardState {
+  std::uint32_t disk_checks = 0;
+  std::vector<double> wall_speed;
+  std::vector<std::uint32_t> wall_reversals;
+};
+
 // The state of a scene whose particles move (the contacts effect): the live state the stepper owns
 // (particles, walls and contact history, the topology of the current network — rebuilt on restore
 // by the same detection from the positions and contacts it was detected from — and the flow
@@ -79,6 +88,7 @@ struct MechanicsSnapshot {
   EffectStates effects;
   // Unset in checkpoints written before the guard kept it (it then starts from the restore).
   std::optional<EnergyGuardState> energy_guard;
+  std::optional<ReversalGuardState> reversal_guard;
 };
 
 // Where a staged run stands (scene.stages, run/stage_program.h): the current stage, where it

@@ -45,6 +45,7 @@
 #include "seep/core/effects/effect_set.h"
 #include "seep/core/effects/live_state.h"
 #include "seep/core/run/energy_guard.h"
+#include "seep/core/run/reversal_guard.h"
 #include "seep/core/run/simulation_snapshot.h"
 #include "seep/core/run/stage_program.h"
 
@@ -172,7 +173,8 @@ class Stepper {
   std::uint64_t series_stride_ = 1;
   TimeSeries series_;
   std::vector<double> latest_sample_;
-  EnergyGuard guard_;  // moving scenes: fails an unstable step
+  EnergyGuard guard_;        // moving scenes: fails an unstable step on energy
+  ReversalGuard reversals_;  // and on motion that reverses every step
 };
 
 // OK when every metric is a finite number; else FAILED_PRECONDITION naming the first one that is
