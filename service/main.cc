@@ -79,6 +79,7 @@ struct Options {
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
+  bool accept_lost_database = false;         // start on an empty store beside checkpoint files
   double retain_days = 0.0;                  // 0: finished jobs are kept however old
   std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
   double retention_interval_s = 600.0;
@@ -272,6 +273,8 @@ bool WritePortFile(const std::string& path, int port) {
 
 // Exit status of a seepd that finds its data folder held by another one.
 constexpr int kExitDataDirInUse = 75;
+// The store holds no job beside checkpoint files (jobs/checkpoint_sweep.h): EX_DATAERR.
+constexpr int kExitLostDatabase = 65;
 
 // One seepd per data folder: an exclusive flock on <data-dir>/seepd.lock, held (the descriptor
 // left open) for the life of the process and released by the kernel however it ends, kill -9
@@ -380,8 +383,15 @@ int Run(const Options& options) {
   // No worker runs yet: whatever a crash left in the checkpoint folder can go.
   const std::filesystem::path checkpoints_dir =
       std::filesystem::path(options.data_dir) / "checkpoints";
-  if (auto swept = seep::service::SweepCheckpointFolder(**store, checkpoints_dir, *logger);
+  if (auto swept = seep::service::SweepCheckpointFolder(**store, checkpoints_dir, *logger,
+                                                        options.accept_lost_database);
       !swept.ok()) {
+    // A lost database: the files are the jobs' only state, and nothing may run over them.
+    if (swept.status().code() == seep::core::StatusCode::kFailedPrecondition) {
+      logger->critical("{}", swept.status().message());
+      std::fprintf(stderr, "seepd: %s\n", swept.status().message().c_str());
+      return kExitLostDatabase;
+    }
     logger->warn("checkpoint sweep skipped: {}", swept.status().message());
   }
   seep::service::RetentionPolicy retention_policy;
@@ -657,6 +667,9 @@ int main(int argc, char** argv) {
                  "largest serialized scene accepted (larger: INVALID_ARGUMENT, nothing stored)")
       ->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 31))
       ->capture_default_str();
+  app.add_flag("--accept-lost-database", options.accept_lost_database,
+               "start on an empty store although checkpoint files exist (its database was lost): "
+               "the files move to <data-dir>/lost-checkpoints, and nothing is deleted");
   app.add_option("--retain-days", options.retain_days,
                  "delete finished jobs (with their checkpoints) this many days after they "
                  "finished; fractions allowed (0 = keep them)")

@@ -1,5 +1,7 @@
 #include "jobs/checkpoint_sweep.h"
 
+#include <fmt/format.h>
+
 #include <set>
 #include <string>
 #include <system_error>
@@ -21,11 +23,45 @@ int MakePrivate(const fs::path& path, fs::perms mode) {
   return ec ? 0 : 1;
 }
 
+// Whether the store holds any job, in any state.
+core::Result<bool> StoreHasJobs(JobStore& store) {
+  SEEP_ASSIGN_OR_RETURN(const auto counts, store.CountByState());
+  for (const auto& [state, count] : counts) {
+    if (count > 0) return true;
+  }
+  return false;
+}
+
+// `path` as the operator reads it: relative to the data folder (the checkpoint folder's parent).
+std::string Shown(const fs::path& path, const fs::path& root) {
+  return path.lexically_relative(root.parent_path()).string();
+}
+
+// Moves every file under `root` to the same place under `lost` (folders 0700), keeping them whole.
+core::Status MoveToLost(const std::vector<fs::path>& files, const fs::path& root,
+                        const fs::path& lost, spdlog::logger& log, int* moved) {
+  std::error_code ec;
+  for (const fs::path& file : files) {
+    const fs::path target = lost / file.lexically_relative(root);
+    fs::create_directories(target.parent_path(), ec);
+    if (!ec) fs::permissions(lost, fs::perms::owner_all, fs::perm_options::replace, ec);
+    if (!ec) fs::rename(file, target, ec);
+    if (ec) {
+      return core::Unavailable(fmt::format("checkpoint sweep: cannot move {} to {}: {}",
+                                           Shown(file, root), Shown(target, root), ec.message()));
+    }
+    log.warn("checkpoint sweep: {} moved to {} (its database was lost; accepted)",
+             Shown(file, root), Shown(target, root));
+    ++*moved;
+  }
+  return core::Status::Ok();
+}
+
 }  // namespace
 
 core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
                                                 const std::filesystem::path& checkpoints_dir,
-                                                spdlog::logger& log) {
+                                                spdlog::logger& log, bool accept_lost_database) {
   SweepCounts counts;
   std::error_code ec;
   const std::filesystem::path root =
@@ -53,6 +89,31 @@ core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
     return core::Unavailable("checkpoint sweep: cannot list " + root.string() + ": " +
                              ec.message());
 
+  // Files a crash inside a write left are nobody's state; every other file is some job's.
+  std::vector<std::filesystem::path> states;
+  for (const std::filesystem::path& file : files) {
+    if (!IsTempFileName(file.filename().string())) states.push_back(file);
+  }
+  SEEP_ASSIGN_OR_RETURN(const bool has_jobs, StoreHasJobs(store));
+  if (!has_jobs && !states.empty()) {
+    const fs::path lost = LostCheckpointsDir(root);
+    if (!accept_lost_database) {
+      std::string named;
+      for (std::size_t k = 0; k < states.size() && k < 3; ++k) {
+        named += (k > 0 ? ", " : "") + Shown(states[k], root);
+      }
+      return core::FailedPrecondition(fmt::format(
+          "the store holds no job, but {} holds {} checkpoint file(s) ({}{}): the database was "
+          "lost or replaced, and these files are its jobs' only state. Nothing was removed. Put "
+          "the database (seep.db with its -wal file) back, or start with --accept-lost-database "
+          "to move the files to {} and begin with an empty store",
+          Shown(root, root), states.size(), named, states.size() > 3 ? ", ..." : "",
+          Shown(lost, root)));
+    }
+    SEEP_RETURN_IF_ERROR(MoveToLost(states, root, lost, log, &counts.lost_files));
+    std::erase_if(files, [](const fs::path& f) { return !IsTempFileName(f.filename().string()); });
+  }
+
   for (const std::filesystem::path& file : files) {
     const std::uintmax_t size = std::filesystem::file_size(file, ec);
     if (core::Status s = RemoveDurably(file); !s.ok()) {
@@ -65,6 +126,10 @@ core::Result<SweepCounts> SweepCheckpointFolder(JobStore& store,
       ++counts.temp_files;
     } else {
       ++counts.orphan_files;
+      log.info(
+          "checkpoint sweep: removed {}: no checkpoint record of its job points to it (a "
+          "crash came between the file and its record, or after the record's removal)",
+          Shown(file, root));
     }
   }
   // Deepest first, so that a folder emptied by its children's removal goes too.

@@ -73,6 +73,9 @@ TEST(CheckpointSweep, RemovesOrphansTempFilesAndEmptyFoldersAndKeepsRecordedFile
                            "not be removed; 3 kept file(s) or folder(s) made private"),
             std::string::npos)
       << out.str();
+  EXPECT_NE(out.str().find("removed checkpoints/j-1/ckpt-000000000020.bin: no checkpoint record"),
+            std::string::npos)
+      << out.str();
 
   // Nothing left to do: no files touched, no log line.
   std::ostringstream again_out;
@@ -81,6 +84,49 @@ TEST(CheckpointSweep, RemovesOrphansTempFilesAndEmptyFoldersAndKeepsRecordedFile
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->orphan_files + again->temp_files + again->empty_folders + again->tightened, 0);
   EXPECT_TRUE(again_out.str().empty()) << again_out.str();
+  store->reset();
+  fs::remove_all(dir);
+}
+
+// A store with no job beside checkpoint files has lost its database: the sweep refuses, naming
+// the files and the flag, and removes nothing (temporary files included); accepted, it moves each
+// file whole to lost-checkpoints and removes only the temporary ones.
+TEST(CheckpointSweep, AnEmptyStoreBesideCheckpointFilesRefusesUnlessTheLossIsAccepted) {
+  const fs::path dir = testing::FreshTestDir("sweep-lost");
+  auto store = JobStore::Open((dir / "seep.db").string());
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  const fs::path ckpt = dir / "checkpoints";
+  fs::create_directories(ckpt / "j-7");
+  std::ofstream(ckpt / "j-7" / "ckpt-000000000010.bin") << "state";
+  std::ofstream(ckpt / "j-7" / "ckpt-000000000020.bin.tmp-Ab12Cd") << "half";
+  std::ostringstream out;
+  spdlog::logger log("test", std::make_shared<spdlog::sinks::ostream_sink_st>(out));
+
+  auto refused = SweepCheckpointFolder(**store, ckpt, log);
+  ASSERT_EQ(refused.status().code(), core::StatusCode::kFailedPrecondition);
+  for (const char* part :
+       {"the store holds no job, but checkpoints holds 1 checkpoint file(s) "
+        "(checkpoints/j-7/ckpt-000000000010.bin)",
+        "Nothing was removed", "--accept-lost-database", "to move the files to lost-checkpoints"}) {
+    EXPECT_NE(refused.status().message().find(part), std::string::npos)
+        << part << " not in: " << refused.status().message();
+  }
+  EXPECT_TRUE(fs::exists(ckpt / "j-7" / "ckpt-000000000010.bin"));
+  EXPECT_TRUE(fs::exists(ckpt / "j-7" / "ckpt-000000000020.bin.tmp-Ab12Cd"));
+
+  auto accepted = SweepCheckpointFolder(**store, ckpt, log, /*accept_lost_database=*/true);
+  ASSERT_TRUE(accepted.ok()) << accepted.status().ToString();
+  EXPECT_EQ(accepted->lost_files, 1);
+  EXPECT_EQ(accepted->orphan_files, 0);
+  EXPECT_EQ(accepted->temp_files, 1);
+  EXPECT_TRUE(fs::exists(dir / "lost-checkpoints" / "j-7" / "ckpt-000000000010.bin"));
+  EXPECT_FALSE(fs::exists(ckpt / "j-7"));
+  EXPECT_EQ(fs::status(dir / "lost-checkpoints").permissions() & fs::perms::all,
+            fs::perms::owner_all);
+  EXPECT_NE(out.str().find("checkpoints/j-7/ckpt-000000000010.bin moved to "
+                           "lost-checkpoints/j-7/ckpt-000000000010.bin"),
+            std::string::npos)
+      << out.str();
   store->reset();
   fs::remove_all(dir);
 }
