@@ -4,7 +4,8 @@
 // refused, not run for one step and reported SUCCEEDED; a scene the core cannot run is refused
 // while seepd stays up (the same pid) and runs the next job; undecodable bytes are
 // INVALID_ARGUMENT naming the message. And what seepd leaves on disk: its files its owner's
-// alone whatever the umask, a loose data folder warned about (or refused), no forged log line.
+// alone whatever the umask, a loose data folder warned about (or refused), no forged log line,
+// and a lost checkpoint named from the data folder on, not by the server's absolute path.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <grpcpp/impl/client_unary_call.h>
@@ -329,6 +330,33 @@ TEST_F(HostileRequests, AControlCharacterInANameCannotForgeALogLine) {
   const std::string log = ReadFile(dir_ / "data" / "seepd.log");
   EXPECT_EQ(log.find("\n" + forged), std::string::npos) << log;
   EXPECT_NE(log.find("('evil\\n" + forged + "\\r\\x1b[2J')"), std::string::npos) << log;
+}
+
+TEST_F(HostileRequests, ALostCheckpointIsNamedFromTheDataFolderOn) {
+  Start("data", {"--workers", "1", "--checkpoint-every-steps", "300"});
+  const std::string id = Submit(LatticeScene("lost-checkpoint", 3e-3));
+  ASSERT_EQ(WaitTerminal(id).state(), v1::JOB_STATE_SUCCEEDED);
+  // Its periodic checkpoints are files (its final state is in the store): all of them go.
+  const std::filesystem::path folder = dir_ / "data" / "checkpoints" / id;
+  std::uint64_t step = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();  // ckpt-<12 digits>.bin
+    step = std::max<std::uint64_t>(step, std::stoull(name.substr(5, 12)));
+    std::filesystem::remove(entry.path());
+  }
+  ASSERT_GT(step, 0u) << "no checkpoint file in " << folder;
+  grpc::ClientContext ctx;
+  Prepare(ctx);
+  v1::GetJobFieldsRequest request;
+  request.set_job_id(id);
+  request.set_step(step);
+  v1::GetJobFieldsResponse response;
+  const grpc::Status status = stub_->GetJobFields(&ctx, request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::DATA_LOSS) << status.error_message();
+  EXPECT_NE(status.error_message().find("checkpoints/" + id + "/ckpt-"), std::string::npos)
+      << status.error_message();
+  EXPECT_EQ(status.error_message().find(dir_.string()), std::string::npos)
+      << status.error_message();
 }
 
 }  // namespace
