@@ -6,10 +6,12 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/resource_quota.h>
 #include <semaphore.h>
+#include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -43,6 +45,7 @@
 #include "metrics/service_metrics.h"
 #include "rpc/bearer_auth.h"
 #include "rpc/seep_service.h"
+#include "rpc/undecodable_request.h"
 #include "rpc/worker_service.h"
 #include "seep/core/log.h"
 #include "seep/core/threads.h"
@@ -74,8 +77,9 @@ struct Options {
   std::string test_crash_job;         // test only
   std::string test_crash_at;          // test only: POINT:N (TestCrashPoints)
   int max_interruptions = 3;
-  std::string token_file;  // else SEEP_TOKEN; neither: no token
-  std::string tls_cert;    // PEM; with tls_key, serve TLS
+  bool strict_permissions = false;  // refuse a data folder open to group or others
+  std::string token_file;           // else SEEP_TOKEN; neither: no token
+  std::string tls_cert;             // PEM; with tls_key, serve TLS
   std::string tls_key;
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
@@ -189,6 +193,10 @@ void ApplyServerLimits(const Options& options, grpc::ServerBuilder& builder) {
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
   // Clients may ping as often as every 10 s (watchers on idle jobs keep their streams alive).
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 10000);
+  // Undecodable request bytes: INVALID_ARGUMENT naming the message, not gRPC's empty INTERNAL.
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> creators;
+  creators.push_back(std::make_unique<seep::service::UndecodableRequestInterceptorFactory>());
+  builder.experimental().SetInterceptorCreators(std::move(creators));
 }
 
 // Loopback addresses and unix sockets are the only places where plaintext without a token is
@@ -247,12 +255,37 @@ seep::core::Result<std::optional<seep::service::BearerAuth>> LoadToken(const Opt
   return std::optional<seep::service::BearerAuth>(std::move(*auth));
 }
 
+// A log line's text with control characters escaped (\n, \r, \t, \x1b, ...): names and ids
+// come from clients, and a newline in one would forge a line of its own.
+class EscapedText : public spdlog::custom_flag_formatter {
+ public:
+  void format(const spdlog::details::log_msg& msg, const std::tm&,
+              spdlog::memory_buf_t& dest) override {
+    for (const char c : msg.payload) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u >= 0x20 && u != 0x7f) {
+        dest.push_back(c);
+      } else if (c == '\n' || c == '\r' || c == '\t') {
+        const char escaped[2] = {'\\', c == '\n' ? 'n' : c == '\r' ? 'r' : 't'};
+        dest.append(escaped, escaped + 2);
+      } else {
+        fmt::format_to(std::back_inserter(dest), "\\x{:02x}", u);
+      }
+    }
+  }
+  std::unique_ptr<custom_flag_formatter> clone() const override {
+    return std::make_unique<EscapedText>();
+  }
+};
+
 std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
   auto file = std::make_shared<spdlog::sinks::rotating_file_sink_mt>(
       (std::filesystem::path(options.data_dir) / "seepd.log").string(), 10 * 1024 * 1024, 5);
   auto logger = std::make_shared<spdlog::logger>("seepd", spdlog::sinks_init_list{console, file});
-  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %v");
+  auto formatter = std::make_unique<spdlog::pattern_formatter>();
+  formatter->add_flag<EscapedText>('*').set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %*");
+  logger->set_formatter(std::move(formatter));
   logger->set_level(spdlog::level::from_str(options.runner.log_level));
   logger->flush_on(spdlog::level::info);
   return logger;
@@ -320,7 +353,39 @@ int LockDataDir(const std::string& data_dir, bool& in_use) {
   return fd;
 }
 
+// The data folder's bits for group and others when it lets them in (0 when it does not, or when
+// it cannot be read).
+mode_t LooseBits(const std::string& data_dir) {
+  struct stat st {};
+  if (::stat(data_dir.c_str(), &st) != 0) return 0;
+  return st.st_mode & 077;
+}
+
+// What an older seepd (or another umask) left readable by others: the store, its journal, the
+// log and the lock file are its owner's alone.
+void TightenFiles(const std::string& data_dir) {
+  for (const char* name :
+       {"seep.db", "seep.db-wal", "seep.db-shm", "seep.db-journal", "seepd.log", "seepd.lock"}) {
+    const std::string path = (std::filesystem::path(data_dir) / name).string();
+    ::chmod(path.c_str(), 0600);  // absent files are fine
+  }
+}
+
 int Run(const Options& options) {
+  // Everything seepd creates (the store and its -wal/-shm, the log, the port file, checkpoint
+  // files and folders) is its owner's alone, whatever umask it was started with: they hold every
+  // job's scene and state.
+  ::umask(077);
+  // A folder seepd did not create may let group or others in: said in the log, or (with
+  // --strict-permissions) refused before anything is written into it.
+  const mode_t loose = LooseBits(options.data_dir);
+  if (loose != 0 && options.strict_permissions) {
+    std::fprintf(stderr,
+                 "seepd: --data-dir %s is open to group or others (mode bits %03o); chmod 700 it, "
+                 "or start without --strict-permissions. Nothing was changed.\n",
+                 options.data_dir.c_str(), static_cast<unsigned>(loose));
+    return 2;
+  }
   // Private to its owner (0700) when seepd creates it: it holds every job's scene and state.
   if (const auto created = seep::service::CreateDirectoriesDurably(options.data_dir);
       !created.ok()) {
@@ -331,8 +396,15 @@ int Run(const Options& options) {
   // Before anything else touches the folder (log, database, recovery of interrupted jobs).
   bool in_use = false;
   if (LockDataDir(options.data_dir, in_use) < 0) return in_use ? kExitDataDirInUse : 2;
+  TightenFiles(options.data_dir);
   auto logger = MakeLogger(options);
   seep::core::SetLogger(logger->clone("core"));
+  if (loose != 0) {
+    logger->warn(
+        "--data-dir {} is open to group or others (mode bits {:03o}): they may read every job's "
+        "scene and state; chmod 700 it (--strict-permissions refuses such a folder)",
+        options.data_dir, static_cast<unsigned>(loose));
+  }
 
   // SIGINT/SIGTERM wake the shutdown thread through a semaphore posted by a handler. Not
   // sigwait: libraries start threads before main (OpenBLAS, under CHOLMOD, starts its pool
@@ -621,6 +693,9 @@ int main(int argc, char** argv) {
       app, options.runner,
       "seconds a job's lease lasts without progress; then the rescuer queues the job again (must "
       "exceed the longest step or scene set-up)");
+  app.add_flag("--strict-permissions", options.strict_permissions,
+               "refuse to start on a data folder open to group or others (else a warning in the "
+               "log)");
   app.add_option("--port-file", options.port_file,
                  "write the bound port to this file once serving (for scripts and tests)");
   app.add_option("--job-time-limit-s", options.job_time_limit_s,

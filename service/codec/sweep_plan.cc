@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 
@@ -143,13 +144,35 @@ core::Result<std::size_t> CombinedCount(const v1::Sweep& sweep,
   return count;
 }
 
-// The number of jobs, counted in floating point so that no product of sizes can overflow.
-core::Status CheckJobCount(const std::vector<CheckedAxis>& axes, bool zip, std::size_t replicates,
-                           std::size_t max_points) {
-  double jobs = static_cast<double>(replicates);
-  if (zip && !axes.empty()) jobs *= static_cast<double>(axes[0].values.size());
-  for (const CheckedAxis& axis : axes) {
-    if (!zip) jobs *= static_cast<double>(axis.values.size());
+// How many values an axis lists on the wire (its one list, or all when it wrongly has several).
+std::size_t ListedValues(const v1::SweepAxis& axis) {
+  return static_cast<std::size_t>(axis.numbers_size()) +
+         static_cast<std::size_t>(axis.texts_size()) + static_cast<std::size_t>(axis.flags_size());
+}
+
+// The number of jobs, read from the request's own list sizes and replicates.count before any
+// value is copied or checked: a count of 2^32-1 or a list of millions of seeds is refused before
+// anything proportional to it is built. Counted in floating point, so no product overflows.
+core::Status CheckJobCount(const v1::Sweep& sweep, std::size_t max_points) {
+  const auto too_many = [&](std::string_view field, std::size_t n, std::string_view what) {
+    return core::InvalidArgument(fmt::format(
+        "sweep.{}: {} {} exceed the limit of {} jobs per sweep", field, n, what, max_points));
+  };
+  const v1::SweepReplicates& wire = sweep.replicates();
+  if (wire.count() > max_points) return too_many("replicates.count", wire.count(), "replicates");
+  if (static_cast<std::size_t>(wire.seeds_size()) > max_points) {
+    return too_many("replicates.seeds", static_cast<std::size_t>(wire.seeds_size()), "seeds");
+  }
+  for (int i = 0; i < sweep.axes_size(); ++i) {
+    if (const std::size_t n = ListedValues(sweep.axes(i)); n > max_points) {
+      return too_many(fmt::format("axes[{}]", i), n, "values");
+    }
+  }
+  const bool zip = sweep.combine() == v1::SWEEP_COMBINE_ZIP;
+  double jobs = std::max(1.0, static_cast<double>(wire.count()) + wire.seeds_size());
+  if (zip && sweep.axes_size() > 0) jobs *= static_cast<double>(ListedValues(sweep.axes(0)));
+  for (const v1::SweepAxis& axis : sweep.axes()) {
+    if (!zip) jobs *= static_cast<double>(ListedValues(axis));
   }
   if (jobs <= static_cast<double>(max_points)) return core::Status::Ok();
   return core::InvalidArgument(
@@ -160,6 +183,7 @@ core::Status CheckJobCount(const std::vector<CheckedAxis>& axes, bool zip, std::
 
 core::Result<SweepPlan> PlanSweep(const v1::Sweep& sweep, const google::protobuf::Message& base,
                                   std::size_t max_points) {
+  SEEP_RETURN_IF_ERROR(CheckJobCount(sweep, max_points));
   std::vector<CheckedAxis> axes;
   for (int i = 0; i < sweep.axes_size(); ++i) {
     SEEP_ASSIGN_OR_RETURN(CheckedAxis axis,
@@ -187,7 +211,6 @@ core::Result<SweepPlan> PlanSweep(const v1::Sweep& sweep, const google::protobuf
   }
   const std::size_t replicates = seeds ? seeds->values.size() : 1;
   const bool zip = sweep.combine() == v1::SWEEP_COMBINE_ZIP;
-  SEEP_RETURN_IF_ERROR(CheckJobCount(axes, zip, replicates, max_points));
   SEEP_ASSIGN_OR_RETURN(const std::size_t combined, CombinedCount(sweep, axes));
   SweepPlan plan;
   for (const CheckedAxis& axis : axes) plan.parameters.push_back(axis.path);

@@ -6,6 +6,7 @@
 
 #include "jobs/newest_checkpoint.h"
 #include "jobs/wall_clock.h"
+#include "store/checkpoint_io.h"
 #include "store/durable_files.h"
 
 namespace seep::service {
@@ -108,6 +109,10 @@ core::Result<FinalStateKept> StoreLedger::RecordSuccess(
       const std::filesystem::path path = CheckpointPath(job, record->step);
       kept.failure = CreateDirectoriesDurably(path.parent_path());
       if (kept.failure.ok()) kept.failure = WriteCheckpointBytes(path, bytes);
+      if (!kept.failure.ok()) {
+        kept.failure =
+            core::Status(kept.failure.code(), HideDataFolder(kept.failure.message(), path));
+      }
       record->path = path.string();
     }
     if (!kept.failure.ok()) {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "rpc/guarded_call.h"
+#include "rpc/request_bounds.h"
 #include "rpc/seep_service.h"
 
 namespace seep::service {
@@ -20,10 +21,10 @@ grpc::Status SeepServiceImpl::Guarded(const grpc::ServerContext* ctx, const char
   return GuardedCall(guards_.auth, *logger_, metrics_, ctx, rpc, std::forward<Fn>(fn));
 }
 
-// INVALID_ARGUMENT "<field>: is required" for an empty id.
+// INVALID_ARGUMENT "<field>: is required" for an empty id, and for one past kMaxIdLength.
 inline core::Status RequireId(const std::string& id, const char* field) {
-  if (!id.empty()) return core::Status::Ok();
-  return core::InvalidArgument(fmt::format("{}: is required", field));
+  if (id.empty()) return core::InvalidArgument(fmt::format("{}: is required", field));
+  return CheckIdLength(id, field);
 }
 
 // SubmitJobRequest and SubmitSweepRequest share these checks: INVALID_ARGUMENT naming the field.

@@ -20,6 +20,8 @@ constexpr std::size_t kMaxRequestIdLength = 200;
 constexpr std::int32_t kMinPriority = -1000;
 constexpr std::int32_t kMaxPriority = 1000;
 constexpr std::size_t kMaxNameFilterLength = 200;
+// ListJobs' states and kinds: each value once is a handful; more is no filter anyone means.
+constexpr int kMaxFilterValues = 16;
 
 }  // namespace
 
@@ -81,6 +83,7 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
       return core::InvalidArgument(
           "from_job_id: a fork continues a simulation's run; send its scene, not a calibration");
     }
+    SEEP_RETURN_IF_ERROR(CheckIdLength(req->from_job_id(), "from_job_id"));
     SEEP_RETURN_IF_ERROR(CheckRequestId(req->request_id()));
     SEEP_RETURN_IF_ERROR(CheckPriority(req->priority()));
     JobRecord job;
@@ -121,6 +124,7 @@ grpc::Status SeepServiceImpl::SubmitJob(grpc::ServerContext* ctx, const v1::Subm
 }
 
 core::Result<std::string> SeepServiceImpl::PrepareSimulationJob(const v1::Scene& scene) {
+  SEEP_RETURN_IF_ERROR(CheckNameLength(scene.name(), "scene.name"));
   // Measured before decoding, so an oversized scene costs no decode and leaves no trace.
   if (const std::size_t bytes = scene.ByteSizeLong(); bytes > guards_.max_scene_bytes) {
     return core::InvalidArgument(
@@ -161,6 +165,13 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
     SEEP_ASSIGN_OR_RETURN(const std::optional<std::int64_t> cursor,
                           DecodePageToken(req->page_token(), *req, "ListJobs"));
     JobFilter filter;
+    for (const auto& [list, size] :
+         {std::pair{"states", req->states_size()}, std::pair{"kinds", req->kinds_size()}}) {
+      if (size > kMaxFilterValues) {
+        return core::InvalidArgument(
+            fmt::format("{}: at most {} values (got {})", list, kMaxFilterValues, size));
+      }
+    }
     for (const int state : req->states()) {
       const auto known = JobStateFromProto(static_cast<v1::JobState>(state));
       if (!known) return core::InvalidArgument(fmt::format("states: {} is not a job state", state));

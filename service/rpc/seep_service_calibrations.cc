@@ -55,6 +55,9 @@ grpc::Status ListCalibrationsFrom(JobStore& store, const v1::ListCalibrationsReq
     }
     *b.into = b.value;
   }
+  if (req.tags_size() > kMaxCalibrationTags) {
+    return Invalid(fmt::format("tags: at most {} (got {})", kMaxCalibrationTags, req.tags_size()));
+  }
   for (int i = 0; i < req.tags_size(); ++i) {
     if (req.tags(i).empty() || req.tags(i).size() > kMaxCalibrationTagLength) {
       return Invalid(
@@ -64,6 +67,7 @@ grpc::Status ListCalibrationsFrom(JobStore& store, const v1::ListCalibrationsReq
   }
   if (req.has_created_after()) filter.created_after_ms = ToMs(req.created_after());
   if (req.has_created_before()) filter.created_before_ms = ToMs(req.created_before());
+  if (core::Status s = CheckIdLength(req.job_id(), "job_id"); !s.ok()) return ToGrpcStatus(s);
   filter.job_id = req.job_id();
   auto page = store.ListCalibrations(PageSize(req.page_size()), *cursor, filter);
   if (!page.ok()) return ToGrpcStatus(page.status());
@@ -138,6 +142,8 @@ core::Result<SeepServiceImpl::PreparedCalibration> SeepServiceImpl::PrepareCalib
   }
   SEEP_RETURN_IF_ERROR(CheckCalibrationRequest(calibration));
   v1::Calibration resolved = calibration;
+  SEEP_RETURN_IF_ERROR(CheckNameLength(calibration.name(), "calibration.name"));
+  SEEP_RETURN_IF_ERROR(CheckIdLength(calibration.from_job_id(), "calibration.from_job_id"));
   if (!calibration.from_job_id().empty()) {
     auto earlier = store_.Get(calibration.from_job_id());
     if (!earlier.ok()) {

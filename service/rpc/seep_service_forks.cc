@@ -151,10 +151,11 @@ core::Result<SeepServiceImpl::ForkStart> SeepServiceImpl::PrepareFork(
   if (copied.ok()) copied = WriteCheckpointFile(path, meta, chosen.file.state);
   if (!copied.ok()) {
     RemoveForkCopy(path);
-    return core::Status(copied.code(),
-                        fmt::format("from_job_id: job {}'s checkpoint at step {} could not be "
-                                    "copied for the fork: {}",
-                                    parent_id, chosen.record->step, copied.message()));
+    return core::Status(
+        copied.code(),
+        fmt::format("from_job_id: job {}'s checkpoint at step {} could not be "
+                    "copied for the fork: {}",
+                    parent_id, chosen.record->step, HideDataFolder(copied.message(), path)));
   }
   ForkStart start;
   start.parent_job_id = parent_id;

@@ -196,6 +196,7 @@ grpc::Status SeepServiceImpl::SubmitSweep(grpc::ServerContext* ctx,
           sweep.has_scene() ? "sweep.calibration: set either scene or calibration, not both"
                             : "sweep.scene: is required (or sweep.calibration)");
     }
+    SEEP_RETURN_IF_ERROR(CheckNameLength(sweep.name(), "sweep.name"));
     SEEP_RETURN_IF_ERROR(CheckRequestId(req->request_id()));
     SEEP_RETURN_IF_ERROR(CheckPriority(req->priority()));
     SweepRecord record;

@@ -12,6 +12,7 @@
 #include "jobs/wall_clock.h"
 #include "rpc/guarded_call.h"
 #include "rpc/keep_lease_reactor.h"
+#include "rpc/request_bounds.h"
 #include "store/checkpoint_io.h"
 
 namespace seep::service {
@@ -31,6 +32,7 @@ core::Status CheckLeaseRef(const v1::LeaseRef& lease, const char* field) {
   if (lease.job_id().empty()) {
     return core::InvalidArgument(fmt::format("{}.job_id: is required", field));
   }
+  SEEP_RETURN_IF_ERROR(CheckIdLength(lease.job_id(), fmt::format("{}.job_id", field)));
   if (lease.lease_epoch() <= 0) {
     return core::InvalidArgument(
         fmt::format("{}.lease_epoch: must be > 0, the epoch ClaimJob returned (got {})", field,

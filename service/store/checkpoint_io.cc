@@ -81,9 +81,19 @@ std::string EncodeCheckpoint(const CheckpointMeta& meta, std::string_view state)
   return bytes;
 }
 
+std::string HideDataFolder(std::string message, const std::filesystem::path& checkpoint_path) {
+  const std::string folder = checkpoint_path.parent_path().parent_path().parent_path().string();
+  if (folder.empty() || folder == "/") return message;
+  const std::string prefix = folder.back() == '/' ? folder : folder + "/";
+  for (auto at = message.find(prefix); at != std::string::npos; at = message.find(prefix, at)) {
+    message.erase(at, prefix.size());
+  }
+  return message;
+}
+
 Status WriteCheckpointBytes(const std::filesystem::path& path, std::string_view bytes) {
   if (Status s = WriteFileDurably(path, bytes); !s.ok()) {
-    return {s.code(), "checkpoint: " + s.message()};
+    return {s.code(), "checkpoint: " + HideDataFolder(s.message(), path)};
   }
   return Status::Ok();
 }
@@ -143,7 +153,10 @@ core::Result<CheckpointFile> DecodeCheckpoint(std::string_view bytes, std::strin
 
 core::Result<CheckpointFile> ReadCheckpointFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return core::NotFound(fmt::format("checkpoint: {}: cannot open", path.string()));
+  if (!in) {
+    return core::NotFound(
+        fmt::format("checkpoint: {}: cannot open", HideDataFolder(path.string(), path)));
+  }
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return DecodeCheckpoint(buffer.str(), path.filename().string());

@@ -52,6 +52,11 @@ std::string EncodeCheckpoint(const CheckpointMeta& meta, std::string_view state)
 // Verifies and parses a checkpoint's bytes; `name` names it in errors.
 core::Result<CheckpointFile> DecodeCheckpoint(std::string_view bytes, std::string_view name);
 
+// A checkpoint lives at <data folder>/checkpoints/<job id>/<file>. What reaches a client (an
+// event, a job's error, a DATA_LOSS) names it from the data folder on: `message` with every
+// occurrence of the data folder's absolute path (and its '/') taken out.
+std::string HideDataFolder(std::string message, const std::filesystem::path& checkpoint_path);
+
 core::Status WriteCheckpointBytes(const std::filesystem::path& path, std::string_view bytes);
 core::Status WriteCheckpointFile(const std::filesystem::path& path, const CheckpointMeta& meta,
                                  std::string_view state);

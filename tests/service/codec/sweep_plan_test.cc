@@ -271,6 +271,23 @@ TEST(SweepPlan, RefusalsNameTheSweepField) {
                            numbers: [ 1, 2, 3 ]
                          })pb"),
             "sweep: 12 jobs exceed the limit of 10 per sweep");
+  // Counts and lists past the limit are refused from the request's sizes, naming the field,
+  // before a value is copied (replicates.count 2^32-1 once built 4e9 settings first).
+  EXPECT_EQ(refusal(R"pb(replicates { seed_path: "packing.random.seed" count: 4294967295 })pb"),
+            "sweep.replicates.count: 4294967295 replicates exceed the limit of 10 jobs per sweep");
+  EXPECT_EQ(refusal(R"pb(replicates { seed_path: "packing.random.seed" count: 11 })pb"),
+            "sweep.replicates.count: 11 replicates exceed the limit of 10 jobs per sweep");
+  EXPECT_EQ(refusal(R"pb(replicates {
+                           seed_path: "packing.random.seed"
+                           seeds: [ 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11 ]
+                         })pb"),
+            "sweep.replicates.seeds: 11 seeds exceed the limit of 10 jobs per sweep");
+  EXPECT_EQ(refusal(R"pb(combine: SWEEP_COMBINE_ZIP
+                         axes {
+                           path: "fluid.viscosity_pa_s"
+                           numbers: [ 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11 ]
+                         })pb"),
+            "sweep.axes[0]: 11 values exceed the limit of 10 jobs per sweep");
   EXPECT_EQ(refusal(R"pb(replicates { seed_path: "fluid.viscosity_pa_s" count: 2 })pb"),
             "sweep.replicates.seed_path: 'fluid.viscosity_pa_s': a seed is an integer field; "
             "this one is a floating-point field (give numbers)");

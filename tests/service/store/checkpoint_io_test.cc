@@ -156,5 +156,20 @@ TEST_F(CheckpointIoTest, ForeignFilesAndNewerFormatsAreRefused) {
   EXPECT_NE(read.status().message().find("format version 2"), std::string::npos);
 }
 
+// A client sees a checkpoint's errors (in events, a job's error, DATA_LOSS): they name it from
+// the data folder on, never by the server's absolute path.
+TEST_F(CheckpointIoTest, ErrorsNameTheFileFromTheDataFolderOn) {
+  const auto missing = dir_ / "checkpoints" / "j-1" / "000000000012.ckpt";
+  const auto read = ReadCheckpointFile(missing);
+  EXPECT_EQ(read.status().code(), core::StatusCode::kNotFound);
+  EXPECT_EQ(read.status().message(), "checkpoint: checkpoints/j-1/000000000012.ckpt: cannot open");
+  // A write into a folder that cannot be made (a file stands where it should be).
+  WriteAll(dir_ / "checkpoints", "a file, not a folder");
+  const core::Status written = WriteCheckpointFile(missing, Meta(12), "x");
+  ASSERT_FALSE(written.ok());
+  EXPECT_EQ(written.message().find(dir_.string()), std::string::npos) << written.message();
+  EXPECT_NE(written.message().find("checkpoints/j-1"), std::string::npos) << written.message();
+}
+
 }  // namespace
 }  // namespace seep::service
