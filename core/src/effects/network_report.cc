@@ -61,9 +61,10 @@ void AddDarcyMetrics(const SceneSpec& scene, const SceneNetwork& net,
   m["inflow_m2_per_s"] = inflow;
   m["outflow_m2_per_s"] = outflow;
   double dp = scene.boundary.inlet_pressure_pa - scene.boundary.outlet_pressure_pa;
-  if (!node_weight.empty()) {
+  if (!node_weight.empty() && net.inlet_node >= 0 && net.outlet_node >= 0) {
     // The drop of the head P - W that drives the flow (the pressure drop minus the weight of
-    // the fluid column between the two reservoirs' reference points).
+    // the fluid column between the two reservoirs' reference points; a closed reservoir has no
+    // node, and no column to weigh: read at index -1, it was the heap's bytes before the array).
     dp -= node_weight[static_cast<std::size_t>(net.inlet_node)] -
           node_weight[static_cast<std::size_t>(net.outlet_node)];
     m["head_drop_pa"] = dp;
