@@ -49,10 +49,10 @@ double DampingRange(std::ptrdiff_t begin, std::ptrdiff_t end, double alpha, doub
                     const double* __restrict omega, const double* __restrict inv_mass,
                     const double* __restrict inv_inertia, const double* __restrict radius) {
   double at_rest = 0.0;
-  const double loaded_spin = kLoadedFraction / dt;
+  const double loaded_spin = kLoadedFraction / dt;  // also the loaded speed per m of radius
   for (std::ptrdiff_t i = begin; i < end; ++i) {
     const double translation = dt * inv_mass[i];
-    const double loaded_speed = kLoadedFraction * radius[i] / dt;
+    const double loaded_speed = loaded_spin * radius[i];
     fx[i] = Damped(fx[i], vx[i], alpha, translation, loaded_speed, &at_rest);
     fy[i] = Damped(fy[i], vy[i], alpha, translation, loaded_speed, &at_rest);
     torque[i] = Damped(torque[i], omega[i], alpha, dt * inv_inertia[i], loaded_spin, &at_rest);

@@ -5,16 +5,6 @@
 #include <cmath>
 
 namespace seep::core {
-namespace {
-
-// A servo wall's stress as its servo measures it (total, or the contacts' alone where it asks).
-double ServoMeasured(const LiveState& s, const WallSpec& wall, std::size_t w) {
-  const std::vector<double>& stress =
-      wall.servo_effective_stress ? s.wall_effective_stress_pa : s.wall_stress_pa;
-  return w < stress.size() ? stress[w] : 0.0;
-}
-
-}  // namespace
 
 double ReversalGuard::DiskRatio(const DemParticles& p, double dt) {
   double change = 0.0, motion = 0.0;
@@ -55,7 +45,8 @@ void ReversalGuard::AddStep(const LiveState& s) {
     if (walls != nullptr && w < walls->walls.size() && walls->walls[w].servo_stress_pa > 0.0) {
       const WallSpec& spec = walls->walls[w];
       const double miss =
-          std::abs(ServoMeasured(s, spec, w) - spec.servo_stress_pa) / spec.servo_stress_pa;
+          std::abs(s.ServoStressPa(w, spec.servo_effective_stress) - spec.servo_stress_pa) /
+          spec.servo_stress_pa;
       reversals = ServoReversals(state_.wall_reversals[w], state_.wall_speed[w], speed, miss);
     }
     state_.wall_reversals[w] = reversals;
@@ -75,8 +66,9 @@ Status ReversalGuard::Check(const LiveState& s, std::uint64_t step, double dt, d
         "{:.6g} Pa: the servo overshoots every step; lower walls[{}].servo_gain_fraction (now {}) "
         "or contacts.dt_safety (now {})",
         step, w, WallName(spec, w), state_.wall_reversals[w], state_.wall_speed[w],
-        spec.servo_effective_stress ? "effective" : "total", ServoMeasured(s, spec, w),
-        spec.servo_stress_pa, w, spec.servo_gain_fraction, dt_safety));
+        spec.servo_effective_stress ? "effective" : "total",
+        s.ServoStressPa(w, spec.servo_effective_stress), spec.servo_stress_pa, w,
+        spec.servo_gain_fraction, dt_safety));
   }
   const double ratio = DiskRatio(s.particles, dt);
   state_.disk_checks = ratio > kDiskLimit ? state_.disk_checks + 1 : 0;

@@ -62,8 +62,7 @@ bool ServosHold(const LiveState& s, double tolerance) {
     const WallSpec& wall = walls->walls[w];
     if (!(wall.servo_stress_pa > 0.0)) continue;
     if (w >= s.wall_stress_pa.size()) return false;
-    const double measured =
-        wall.servo_effective_stress ? s.wall_effective_stress_pa[w] : s.wall_stress_pa[w];
+    const double measured = s.ServoStressPa(w, wall.servo_effective_stress);
     if (!(std::abs(measured - wall.servo_stress_pa) <= tolerance * wall.servo_stress_pa)) {
       return false;
     }

@@ -26,7 +26,7 @@ std::uint32_t CountAfter(int steps, double r, double miss) {
 
 TEST(ServoReversal, AServoChatteringAtItsSpeedLimitCountsEveryStep) {
   EXPECT_EQ(CountAfter(40, 1.0, 0.13), 40u);  // platens at +-max speed, 13 % off (87 kPa of 100)
-  EXPECT_GE(CountAfter(ReversalGuard::kServoSteps, 1.3, 0.5), ReversalGuard::kServoSteps);
+  EXPECT_EQ(CountAfter(ReversalGuard::kServoSteps, 1.3, 0.5), ReversalGuard::kServoSteps);
 }
 
 TEST(ServoReversal, AnOvershootThatDiesOutIsNotCounted) {

@@ -70,6 +70,12 @@ struct LiveState {
   // part alone (effective), Pa.
   std::vector<double> wall_stress_pa;
   std::vector<double> wall_effective_stress_pa;
+  // The stress a servo on wall w holds (WallSpec::servo_effective_stress: the contacts' part
+  // alone, else the total); 0 before the walls effect has measured it.
+  double ServoStressPa(std::size_t w, bool effective) const {
+    const std::vector<double>& stress = effective ? wall_effective_stress_pa : wall_stress_pa;
+    return w < stress.size() ? stress[w] : 0.0;
+  }
   std::optional<DemContactForces> contacts;
   FluidBooks books;
   EffectCounters counters;
