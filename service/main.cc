@@ -6,7 +6,6 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/resource_quota.h>
 #include <semaphore.h>
-#include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/rotating_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -31,8 +30,11 @@
 #include <thread>
 
 #include "codec/scene_codec.h"
+#include "executor/local_workers.h"
 #include "executor/slurm_executor.h"
+#include "jobs/checkpoint_recovery.h"
 #include "jobs/checkpoint_sweep.h"
+#include "jobs/escaped_log.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
 #include "jobs/physics_pool.h"
@@ -76,6 +78,13 @@ struct Options {
   int test_fail_final_writes = 0;     // test only
   std::string test_crash_job;         // test only
   std::string test_crash_at;          // test only: POINT:N (TestCrashPoints)
+  std::string test_segfault_job;      // test only
+  std::string test_hog_memory_job;    // test only
+  // process: simulations run in seep-worker child processes (a crash fails the job only);
+  // thread: on seepd's own threads (a crash takes seepd down).
+  std::string isolation = "process";
+  std::optional<std::uint64_t> job_memory_limit_mb;  // default: DefaultJobMemoryLimitMb
+  std::string seep_worker;                           // default: DefaultWorkerPath
   int max_interruptions = 3;
   bool strict_permissions = false;  // refuse a data folder open to group or others
   std::string token_file;           // else SEEP_TOKEN; neither: no token
@@ -84,6 +93,7 @@ struct Options {
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
   bool accept_lost_database = false;         // start on an empty store beside checkpoint files
+  bool recover_from_checkpoints = false;     // rebuild an empty store's jobs from the files
   double retain_days = 0.0;                  // 0: finished jobs are kept however old
   std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
   double retention_interval_s = 600.0;
@@ -255,37 +265,12 @@ seep::core::Result<std::optional<seep::service::BearerAuth>> LoadToken(const Opt
   return std::optional<seep::service::BearerAuth>(std::move(*auth));
 }
 
-// A log line's text with control characters escaped (\n, \r, \t, \x1b, ...): names and ids
-// come from clients, and a newline in one would forge a line of its own.
-class EscapedText : public spdlog::custom_flag_formatter {
- public:
-  void format(const spdlog::details::log_msg& msg, const std::tm&,
-              spdlog::memory_buf_t& dest) override {
-    for (const char c : msg.payload) {
-      const auto u = static_cast<unsigned char>(c);
-      if (u >= 0x20 && u != 0x7f) {
-        dest.push_back(c);
-      } else if (c == '\n' || c == '\r' || c == '\t') {
-        const char escaped[2] = {'\\', c == '\n' ? 'n' : c == '\r' ? 'r' : 't'};
-        dest.append(escaped, escaped + 2);
-      } else {
-        fmt::format_to(std::back_inserter(dest), "\\x{:02x}", u);
-      }
-    }
-  }
-  std::unique_ptr<custom_flag_formatter> clone() const override {
-    return std::make_unique<EscapedText>();
-  }
-};
-
 std::shared_ptr<spdlog::logger> MakeLogger(const Options& options) {
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
   auto file = std::make_shared<spdlog::sinks::rotating_file_sink_mt>(
       (std::filesystem::path(options.data_dir) / "seepd.log").string(), 10 * 1024 * 1024, 5);
   auto logger = std::make_shared<spdlog::logger>("seepd", spdlog::sinks_init_list{console, file});
-  auto formatter = std::make_unique<spdlog::pattern_formatter>();
-  formatter->add_flag<EscapedText>('*').set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %*");
-  logger->set_formatter(std::move(formatter));
+  logger->set_formatter(seep::service::EscapingLogFormatter());
   logger->set_level(spdlog::level::from_str(options.runner.log_level));
   logger->flush_on(spdlog::level::info);
   return logger;
@@ -455,6 +440,18 @@ int Run(const Options& options) {
   // No worker runs yet: whatever a crash left in the checkpoint folder can go.
   const std::filesystem::path checkpoints_dir =
       std::filesystem::path(options.data_dir) / "checkpoints";
+  if (options.recover_from_checkpoints) {
+    auto recovered = seep::service::RecoverFromCheckpoints(**store, checkpoints_dir, *logger);
+    if (!recovered.ok()) {
+      logger->critical("{}", recovered.status().message());
+      std::fprintf(stderr, "seepd: %s\n", recovered.status().message().c_str());
+      return kExitLostDatabase;
+    }
+    logger->info(
+        "recovery: {} job(s) rebuilt from {} checkpoint file(s), queued to continue from their "
+        "newest checkpoints; {} job folder(s) could not be rebuilt (in lost-checkpoints)",
+        recovered->jobs, recovered->checkpoint_files, recovered->unrecoverable.size());
+  }
   if (auto swept = seep::service::SweepCheckpointFolder(**store, checkpoints_dir, *logger,
                                                         options.accept_lost_database);
       !swept.ok()) {
@@ -521,12 +518,27 @@ int Run(const Options& options) {
   runner_options.test_fail_final_writes = options.test_fail_final_writes;
   runner_options.test_crash_job = options.test_crash_job;
   runner_options.max_interruptions = options.max_interruptions;
+  const bool isolated = options.isolation == "process" && options.runner.workers > 0;
+  if (!options.test_hog_memory_job.empty() &&
+      (!isolated || options.job_memory_limit_mb.value_or(1) == 0)) {
+    logger->critical("--test-hog-memory-job needs worker processes with a memory limit");
+    return 2;
+  }
+  if (isolated && (!options.test_stall_job.empty() || options.test_fail_final_writes > 0)) {
+    logger->critical(
+        "--test-stall-job and --test-fail-final-writes act on seepd's own threads: they need "
+        "--isolation thread");
+    return 2;
+  }
+  runner_options.test_segfault_job = options.test_segfault_job;  // on seepd's threads: its end
   if (!options.test_stall_job.empty() || options.test_fail_final_writes > 0 ||
-      !options.test_crash_job.empty()) {
+      !options.test_crash_job.empty() || !options.test_segfault_job.empty() ||
+      !options.test_hog_memory_job.empty()) {
     logger->warn(
-        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}, --test-crash-job '{}') "
-        "are on: not for production",
-        options.test_stall_job, options.test_fail_final_writes, options.test_crash_job);
+        "test hooks (--test-stall-job '{}', --test-fail-final-writes {}, --test-crash-job '{}', "
+        "--test-segfault-job '{}', --test-hog-memory-job '{}') are on: not for production",
+        options.test_stall_job, options.test_fail_final_writes, options.test_crash_job,
+        options.test_segfault_job, options.test_hog_memory_job);
   }
   seep::service::ServiceMetrics metrics;
   runner_options.metrics = &metrics;
@@ -535,9 +547,44 @@ int Run(const Options& options) {
   };
   if (crash_points.armed()) runner_options.crash_points = &crash_points;
   // Where seepd's own workers, and remote ones through the WorkerService, keep jobs' progress.
-  seep::service::StoreLedger ledger(**store, checkpoints_dir, logger,
-                                    crash_points.armed() ? &crash_points : nullptr);
+  // Isolated, seepd's own threads run only calibrations (one at a time), which need its store;
+  // the simulations run in the worker processes, through the WorkerService.
+  const int simulation_workers = options.runner.workers;
+  if (isolated) runner_options.workers = 1;
+  seep::service::StoreLedger ledger(
+      **store, checkpoints_dir, logger, crash_points.armed() ? &crash_points : nullptr,
+      isolated ? std::optional(seep::service::JobKind::kCalibration) : std::nullopt);
   seep::service::JobRunner runner(ledger, &**store, hub, runner_options, logger);
+  // The memory each job may use: what each worker process is limited to, and what the admission
+  // estimate at submit compares a scene with (on seepd's own threads, nothing limits a job).
+  const std::uint64_t job_memory_limit_mb =
+      isolated ? options.job_memory_limit_mb.value_or(
+                     seep::service::DefaultJobMemoryLimitMb(simulation_workers))
+               : 0;
+  std::optional<seep::service::LocalWorkers> local_workers;
+  if (isolated) {
+    seep::service::LocalWorkersOptions local;
+    local.worker_path = options.seep_worker.empty() ? DefaultWorkerPath() : options.seep_worker;
+    local.server = seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits);
+    local.count = simulation_workers;
+    local.runner = options.runner;
+    local.runner.threads_per_job = runner_options.threads_per_job;
+    if (token->has_value()) local.token = (*token)->token();
+    local.memory_limit_mb = job_memory_limit_mb;
+    local.job_time_limit_s = options.job_time_limit_s;
+    if (!options.test_crash_job.empty()) {
+      local.extra_args.insert(local.extra_args.end(), {"--test-crash-job", options.test_crash_job});
+    }
+    if (!options.test_hog_memory_job.empty()) {
+      local.extra_args.insert(local.extra_args.end(),
+                              {"--test-hog-memory-job", options.test_hog_memory_job});
+    }
+    if (!options.test_segfault_job.empty()) {
+      local.extra_args.insert(local.extra_args.end(),
+                              {"--test-segfault-job", options.test_segfault_job});
+    }
+    local_workers.emplace(**store, hub, std::move(local), logger);
+  }
   // GetJobFields' physics: one request at a time with a job's thread budget, a few more waiting.
   seep::service::PhysicsPool physics(/*threads=*/1, runner_options.threads_per_job,
                                      /*max_waiting=*/16);
@@ -557,6 +604,7 @@ int Run(const Options& options) {
   }
   const auto wake_executors = [&] {
     runner.Wake();
+    if (local_workers) local_workers->Wake();
     if (slurm) slurm->Wake();
   };
   seep::service::SeepServiceImpl service(
@@ -568,7 +616,7 @@ int Run(const Options& options) {
        }},
       logger,
       {authenticated ? &**token : nullptr, options.max_scene_bytes, options.max_response_bytes,
-       options.max_watch_streams},
+       options.max_watch_streams, job_memory_limit_mb << 20},
       &metrics);
   // Remote workers (seep-worker) lease jobs through it, with the same token.
   seep::service::WorkerServiceImpl worker_service(
@@ -593,6 +641,12 @@ int Run(const Options& options) {
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(options.listen, credentials, &port);
+  // The worker processes' own door: a socket in the data folder (0700), which --listen's TLS and
+  // address do not concern; the token is still required when there is one.
+  if (isolated) {
+    builder.AddListeningPort(seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits),
+                             grpc::InsecureServerCredentials());
+  }
   ApplyServerLimits(options, builder);
   builder.RegisterService(&service);
   builder.RegisterService(&worker_service);
@@ -603,9 +657,21 @@ int Run(const Options& options) {
     return 1;
   }
   server->GetHealthCheckService()->SetServingStatus(true);
-  logger->info("seepd {} listening on {} (port {}), data in {}, {} worker(s) of {} thread(s)",
-               SEEP_BUILD_ID, options.listen, port, options.data_dir, options.runner.workers,
-               runner_options.threads_per_job);
+  if (isolated) {
+    // The worker processes' socket: its owner's alone, as every file seepd writes (gRPC made it
+    // with the mode the umask left, with execute bits a socket does not need).
+    const std::string socket =
+        seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits);
+    if (socket.rfind("unix:", 0) == 0) ::chmod(socket.c_str() + 5, 0600);
+  }
+  logger->info(
+      "seepd {} listening on {} (port {}), data in {}, {} worker(s) of {} thread(s){}",
+      SEEP_BUILD_ID, options.listen, port, options.data_dir, simulation_workers,
+      runner_options.threads_per_job,
+      !isolated ? std::string(" on seepd's own threads")
+      : job_memory_limit_mb == 0
+          ? std::string(", each a seep-worker process")
+          : fmt::format(", each a seep-worker process of at most {} MiB", job_memory_limit_mb));
   logger->info("transport {}; {}; requests up to {} bytes, scenes up to {} bytes",
                tls ? "TLS" : "plaintext",
                authenticated ? "bearer token required for seep.v1.SeepService (health stays open)"
@@ -638,6 +704,12 @@ int Run(const Options& options) {
     logger->critical("cannot write --port-file {}", options.port_file);
     return 1;
   }
+  if (local_workers) {
+    if (auto started = local_workers->Start(); !started.ok()) {
+      logger->critical("{}", started.message());
+      return 2;
+    }
+  }
   runner.Start();
   retention.Start();
 
@@ -661,6 +733,11 @@ int Run(const Options& options) {
       // Batch jobs already submitted keep running: their workers reconnect to the next seepd.
       if (slurm) slurm->Stop();
       retention.Stop();
+      // The worker processes give their jobs back through the server, which still serves.
+      if (local_workers) {
+        local_workers->Stop(std::chrono::milliseconds(
+            static_cast<std::int64_t>(options.shutdown_timeout_s * 1000 * 0.8)));
+      }
       runner.Stop();
       server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
       drained = true;
@@ -722,6 +799,27 @@ int main(int argc, char** argv) {
                  "checkpoint-file (a file written, not yet recorded) or final-state (a finished "
                  "job's final state ready, its success not yet recorded)")
       ->group("");
+  app.add_option("--test-segfault-job", options.test_segfault_job,
+                 "TEST ONLY: a worker running a job of this name dies of SIGSEGV 1500 steps into "
+                 "its run")
+      ->group("");
+  app.add_option("--test-hog-memory-job", options.test_hog_memory_job,
+                 "TEST ONLY: a worker process running a job of this name allocates memory 1500 "
+                 "steps into its run until its memory limit stops it")
+      ->group("");
+  app.add_option("--isolation", options.isolation,
+                 "process: jobs run in seep-worker child processes, so that one that crashes, "
+                 "aborts or runs out of memory fails alone (FAILED, naming the cause); thread: on "
+                 "seepd's own threads (a crash takes seepd down; calibrations always run there)")
+      ->check(CLI::IsMember({"process", "thread"}))
+      ->capture_default_str();
+  app.add_option("--job-memory-limit-mb", options.job_memory_limit_mb,
+                 "address space of each worker process in MiB (--isolation process; setrlimit "
+                 "RLIMIT_AS): a job that needs more fails RESOURCE_EXHAUSTED (default: 90 % of "
+                 "the machine's memory shared out among --workers, at least 1024; 0: none)");
+  app.add_option("--seep-worker", options.seep_worker,
+                 "the seep-worker binary that --isolation process starts (default: the one beside "
+                 "this seepd)");
   app.add_option("--test-fail-final-writes", options.test_fail_final_writes,
                  "TEST ONLY: the first N tries of writing a finished job's result fail")
       ->check(CLI::NonNegativeNumber)
@@ -745,6 +843,12 @@ int main(int argc, char** argv) {
   app.add_flag("--accept-lost-database", options.accept_lost_database,
                "start on an empty store although checkpoint files exist (its database was lost): "
                "the files move to <data-dir>/lost-checkpoints, and nothing is deleted");
+  app.add_flag("--recover-from-checkpoints", options.recover_from_checkpoints,
+               "rebuild the jobs of an empty store (its database was lost) from the checkpoint "
+               "files in <data-dir>/checkpoints and lost-checkpoints: each is queued under its id "
+               "and continues from its newest checkpoint (labels, priority and results are not in "
+               "the files); refused on a store that holds jobs")
+      ->excludes("--accept-lost-database");
   app.add_option("--retain-days", options.retain_days,
                  "delete finished jobs (with their checkpoints) this many days after they "
                  "finished; fractions allowed (0 = keep them)")

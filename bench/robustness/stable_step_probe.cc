@@ -11,10 +11,13 @@
 // columns, speed, fluid stiffness and stress, and the energy guard's ratio (run/energy_guard.h:
 // (K + E_f) / (E_0 + W), which fails the run above EnergyGuard::kAllowedRatio); at the end, the
 // run's metrics.
-// At the end it fits the checkerboard's growth rate (per step and per second) over the last half
+// At the end it prints the process's peak resident memory, per particle (what seepd's admission
+// estimate at submit, codec/state_size_estimate.h, rests on), and fits the checkerboard's growth
+// rate (per step and per second) over the last half
 // of the rows: > 0 and steady is an instability, and its rate against the step is what tells a
 // step limit from a physical growth.
 #include <fmt/format.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -188,5 +191,11 @@ int main(int argc, char** argv) {
   }
   std::printf("# checkerboard growth over the last half: %.4g per step, %.4g per s\n",
               GrowthRate(rows, false), GrowthRate(rows, true));
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;
+  const auto particles = sim->stepper().state().particles.size();
+  std::printf("# peak resident memory %.1f MiB, %.0f bytes a particle (%zu particles)\n",
+              peak_bytes / (1 << 20), peak_bytes / std::max<std::size_t>(1, particles), particles);
   return 0;
 }

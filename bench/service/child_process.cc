@@ -56,23 +56,7 @@ int ChildProcess::Stop(int signal) {
   return status;
 }
 
-double ChildProcess::CpuSeconds() const {
-  std::ifstream in("/proc/" + std::to_string(pid_) + "/stat");
-  std::string stat;
-  if (!std::getline(in, stat)) return -1.0;
-  // The command name (field 2) may hold spaces: count fields from after its ')'.
-  const auto close = stat.rfind(')');
-  if (close == std::string::npos) return -1.0;
-  std::istringstream fields(stat.substr(close + 2));
-  std::string field;
-  // Fields 3 .. 13 come before utime (14) and stime (15).
-  for (int i = 3; i <= 13 && fields >> field; ++i) {
-  }
-  long long utime = 0;
-  long long stime = 0;
-  if (!(fields >> utime >> stime)) return -1.0;
-  return static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
-}
+double ChildProcess::CpuSeconds() const { return ProcessCpuSeconds(pid_); }
 
 double ChildProcess::RssMib() const {
   std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
@@ -95,6 +79,40 @@ int WaitForPortFile(const std::filesystem::path& file) {
 
 bool ExitedCleanly(int wait_status) {
   return wait_status >= 0 && WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0;
+}
+
+double ProcessCpuSeconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  if (!std::getline(in, stat)) return -1.0;
+  // The command name (field 2) may hold spaces: count fields from after its ')'.
+  const auto close = stat.rfind(')');
+  if (close == std::string::npos) return -1.0;
+  std::istringstream fields(stat.substr(close + 2));
+  std::string field;
+  // Fields 3 .. 13 come before utime (14) and stime (15).
+  for (int i = 3; i <= 13 && fields >> field; ++i) {
+  }
+  long long utime = 0;
+  long long stime = 0;
+  if (!(fields >> utime >> stime)) return -1.0;
+  return static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+std::vector<pid_t> ChildrenOf(pid_t parent) {
+  std::vector<pid_t> children;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream status(entry.path() / "status");
+    for (std::string line; std::getline(status, line);) {
+      if (line.rfind("PPid:", 0) == 0) {
+        if (std::stol(line.substr(5)) == parent) children.push_back(std::stoi(name));
+        break;
+      }
+    }
+  }
+  return children;
 }
 
 }  // namespace seep::bench

@@ -34,6 +34,12 @@ class ChildProcess {
   pid_t pid_ = -1;
 };
 
+// User + system CPU seconds process `pid` has used so far (/proc/<pid>/stat); -1 if unreadable.
+double ProcessCpuSeconds(pid_t pid);
+
+// The live processes whose parent is `parent` (seepd's worker processes).
+std::vector<pid_t> ChildrenOf(pid_t parent);
+
 // The port a seepd started with --port-file wrote there, waiting up to 30 s; -1 if none came.
 int WaitForPortFile(const std::filesystem::path& file);
 

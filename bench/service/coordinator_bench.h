@@ -41,8 +41,9 @@ struct CoordinatorOptions {
   std::string sweep_on = "both";
   std::uint32_t sweep_columns = 40;
   std::uint32_t sweep_rows = 40;
-  double sweep_end_time_s = 3.1484e-3;   // about 1,500 explicit steps
-  double throughput_ratio_limit = 0.90;  // on the median of the trials' ratios
+  double sweep_end_time_s = 3.1484e-3;  // about 1,500 explicit steps
+  // On the median of the trials' ratios (issue 50: jobs isolated in worker processes).
+  double throughput_ratio_limit = 0.85;
   int sweep_trials = 5;
   double sweep_slice_s = 1.0;  // the service and the in-process run take turns
 

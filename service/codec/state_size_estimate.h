@@ -26,4 +26,18 @@ StateSizeEstimate EstimateStateSize(const core::SceneSpec& scene);
 // count that fits, when the estimate exceeds kMaxSerializedStateBytes.
 core::Status CheckStateFitsACheckpoint(const core::SceneSpec& scene);
 
+// A running job's peak resident memory, estimated from the scene alone at submit (the admission
+// check against the memory a job may use).
+struct PeakMemoryEstimate {
+  std::uint64_t particles = 0;
+  std::uint64_t bytes_per_particle = 0;  // an upper bound for this kind of scene
+  std::uint64_t total_bytes = 0;         // with the process's own
+};
+
+PeakMemoryEstimate EstimatePeakMemory(const core::SceneSpec& scene);
+
+// RESOURCE_EXHAUSTED "scene.packing: ..." with the estimate's figures and the largest particle
+// count that fits, when the estimate exceeds limit_bytes (0: no limit).
+core::Status CheckJobFitsMemory(const core::SceneSpec& scene, std::uint64_t limit_bytes);
+
 }  // namespace seep::service

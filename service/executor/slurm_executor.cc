@@ -74,7 +74,6 @@ SlurmExecutor::SlurmExecutor(JobStore& store, std::filesystem::path data_dir,
 SlurmExecutor::~SlurmExecutor() { Stop(); }
 
 std::string SlurmExecutor::ScriptText() const {
-  const RunnerFlags& r = options_.runner;
   std::vector<std::string> args = {options_.worker_path,
                                    "--server",
                                    options_.server,
@@ -83,19 +82,9 @@ std::string SlurmExecutor::ScriptText() const {
                                    "--max-jobs",
                                    std::to_string(plan_options_.max_jobs_per_worker),
                                    "--exit-when-idle-s",
-                                   fmt::format("{}", options_.exit_when_idle_s),
-                                   "--threads-per-job",
-                                   std::to_string(std::max(1, r.threads_per_job)),
-                                   "--lease-s",
-                                   fmt::format("{}", r.lease_s),
-                                   "--checkpoint-interval-s",
-                                   fmt::format("{}", r.checkpoint_interval_s),
-                                   "--checkpoint-every-steps",
-                                   std::to_string(r.checkpoint_every_steps),
-                                   "--checkpoints-kept",
-                                   std::to_string(r.checkpoints_kept),
-                                   "--log-level",
-                                   r.log_level};
+                                   fmt::format("{}", options_.exit_when_idle_s)};
+  const std::vector<std::string> runner = RunnerFlagArgs(options_.runner);
+  args.insert(args.end(), runner.begin(), runner.end());
   args.insert(args.end(), options_.worker_args.begin(), options_.worker_args.end());
   std::string line = "exec";
   for (const std::string& arg : args) line += " " + ShellQuoted(arg);

@@ -113,6 +113,7 @@ CheckpointMeta CheckpointKeeper::MetaOf(const core::Simulation& sim) const {
   meta.build_id = build_id_;
   meta.job_id = job_.id;
   meta.scene_sha256 = scene_sha256_;
+  meta.scene = job_.scene;
   meta.step = sim.step();
   meta.time_s = sim.time_s();
   return meta;

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <memory>
 #include <set>
 #include <thread>
 
@@ -20,7 +23,8 @@
 
 namespace seep::service {
 namespace {
-// Where --test-stall-job hangs a run and --test-crash-job ends the process: this many steps
+// Where --test-stall-job hangs a run and --test-crash-job (or --test-segfault-job) ends the
+// process: this many steps
 // into the claim.
 constexpr std::uint64_t kTestStallStep = 1500;
 
@@ -110,9 +114,12 @@ void JobRunner::HeartbeatLoop(const std::stop_token& stop) {
         running->time_limit_hit = true;
         running->stop.request_stop();
       }
-      // No progress since the last renewal: the worker may be hung, so let the lease run out.
+      if (!running->lease_lost) StoreHeldBackProgress(id, *running);
+      // No progress since the last renewal: the worker may be hung, so let the lease run out
+      // (in a supervised worker process, not during set-up: seepd watches that).
       const std::uint64_t ticks = running->ticks;
-      if (ticks == running->renewed_ticks) {
+      if (ticks == running->renewed_ticks &&
+          !(options_.renew_during_setup && running->setting_up)) {
         running->log->debug("no progress since the last lease renewal; not renewed");
         continue;
       }
@@ -171,6 +178,16 @@ void JobRunner::RescueExpired() {
     hub_.Finished(job.id);
   }
   if (!expired->empty()) wake_.notify_all();
+}
+
+void JobRunner::HogMemoryForTest(spdlog::logger& log) {
+  log.warn("test hook --test-hog-memory-job: allocating until an allocation fails");
+  constexpr std::size_t kBlock = std::size_t{64} << 20;
+  std::vector<std::unique_ptr<char[]>> held;
+  for (;;) {  // ends with std::bad_alloc, as a scene that outgrows its limit would
+    held.push_back(std::make_unique<char[]>(kBlock));
+    std::memset(held.back().get(), 1, kBlock);  // resident, not only reserved
+  }
 }
 
 void JobRunner::StallForTest(Running& running) {
@@ -251,9 +268,13 @@ bool JobRunner::WorkDoneLocked(std::chrono::steady_clock::time_point now) const 
   return options_.exit_when_idle.count() > 0 && now - idle_since_ >= options_.exit_when_idle;
 }
 
-core::Status JobRunner::CatchAll(const std::function<core::Status()>& body) {
+core::Status JobRunner::CatchAll(const std::function<core::Status()>& body) const {
   try {
     return body();
+  } catch (const std::bad_alloc&) {
+    return core::ResourceExhausted(fmt::format(
+        "out of memory: an allocation failed{}; a smaller scene, or more memory for the job",
+        options_.memory_limit_note.empty() ? "" : "; " + options_.memory_limit_note));
   } catch (const std::exception& e) {
     return core::Internal(fmt::format("unexpected exception: {}", e.what()));
   }
@@ -271,7 +292,8 @@ void JobRunner::RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlo
   auto running = std::make_shared<Running>();
   running->epoch = job.lease_epoch;
   running->log = logger_->clone("job-" + job.id);
-  running->wall_start = running->last_store_write = std::chrono::steady_clock::now();
+  running->wall_start = std::chrono::steady_clock::now();
+  running->last_store_write = running->wall_start;  // not shared yet
   {
     std::lock_guard lock(mutex_);
     running_[job.id] = running;
@@ -344,6 +366,7 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
     auto created = core::Simulation::Create(*spec, log);
     if (!created.ok()) return created.status();
     sim.emplace(std::move(*created));
+    running.setting_up = false;
     ++running.ticks;  // set-up done
     // A fork always continues from a checkpoint (its first one is its parent's, copied at
     // submit), even when this runner writes none; from the start it would not be that fork.
@@ -385,6 +408,10 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
     const bool stall = !options_.test_stall_job.empty() && job.name == options_.test_stall_job &&
                        job.lease_epoch == 1;
     const bool crash = !options_.test_crash_job.empty() && job.name == options_.test_crash_job;
+    const bool segfault =
+        !options_.test_segfault_job.empty() && job.name == options_.test_segfault_job;
+    const bool hog =
+        !options_.test_hog_memory_job.empty() && job.name == options_.test_hog_memory_job;
     // Steps are counted into the shared metric in batches: an atomic add per step from every
     // worker would bounce one cache line between the cores at every step.
     constexpr std::uint64_t kStepsPerMetricUpdate = 64;
@@ -395,6 +422,13 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
         log->critical("test hook --test-crash-job: ending the process");
         std::_Exit(86);
       }
+      if (segfault && at.step() == resumed_from + kTestStallStep) {
+        log->critical("test hook --test-segfault-job: a segmentation fault");
+        // The default action (a sanitizer's handler would turn it into an abort).
+        std::signal(SIGSEGV, SIG_DFL);
+        std::raise(SIGSEGV);
+      }
+      if (hog && at.step() == resumed_from + kTestStallStep) HogMemoryForTest(*log);
       if (options_.metrics != nullptr && ++uncounted_steps == kStepsPerMetricUpdate) {
         options_.metrics->AddSteps(uncounted_steps);
         uncounted_steps = 0;
@@ -483,9 +517,36 @@ void JobRunner::PublishProgress(const std::string& id, Running& running,
   if (running.lease_lost) return;  // the job is queued again or another claim runs it
   ++running.ticks;
   hub_.Publish(id, progress);
-  const auto now = std::chrono::steady_clock::now();
-  if (now - running.last_store_write < options_.store_progress_interval) return;
-  running.last_store_write = now;
+  {
+    std::lock_guard lock(running.progress_mutex);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - running.last_store_write < options_.store_progress_interval) {
+      running.unstored_progress = progress;
+      return;
+    }
+    running.last_store_write = now;
+    running.unstored_progress.reset();
+  }
+  StoreProgress(id, running, progress);
+}
+
+void JobRunner::StoreHeldBackProgress(const std::string& id, Running& running) {
+  std::optional<JobProgress> held_back;
+  {
+    std::lock_guard lock(running.progress_mutex);
+    const auto now = std::chrono::steady_clock::now();
+    if (!running.unstored_progress ||
+        now - running.last_store_write < options_.store_progress_interval) {
+      return;
+    }
+    running.last_store_write = now;
+    held_back.swap(running.unstored_progress);
+  }
+  StoreProgress(id, running, *held_back);
+}
+
+void JobRunner::StoreProgress(const std::string& id, Running& running,
+                              const JobProgress& progress) {
   if (auto s = ledger_.UpdateProgress(id, running.epoch, progress);
       !s.ok() && !running.StopIfLeaseLost(s)) {
     running.log->warn("progress not stored: {}", s.ToString());

@@ -32,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -75,6 +76,21 @@ struct JobRunnerOptions {
   // Test only: a worker running a job of this name ends the process (_Exit(86), as a crash
   // would) 1500 steps into its run.
   std::string test_crash_job;
+  // Test only: a worker running a job of this name dies of SIGSEGV 1500 steps into its run.
+  std::string test_segfault_job;
+  // Test only: a worker running a job of this name allocates (and touches) memory 1500 steps
+  // into its run until an allocation fails (a worker process with a memory limit only).
+  std::string test_hog_memory_job;
+  // A worker process that seepd supervises (seep-worker --supervised): a job's lease is renewed
+  // during its set-up too (the scene's decoding, packing and first solve make no step, and a
+  // large one outlasts a lease), because seepd itself ends a set-up that outlasts the time limit
+  // or a cancel by ending the process. Elsewhere a set-up renews nothing, so that a hung one
+  // loses its lease.
+  bool renew_during_setup = false;
+  // Said in the outcome of a run that ran out of memory (std::bad_alloc): the limit it ran into,
+  // e.g. "the worker process's address space is limited to 2048 MiB (seepd
+  // --job-memory-limit-mb)"; empty: none is known.
+  std::string memory_limit_note;
   // Test only: the first this many tries of final result writes fail as a store error would.
   int test_fail_final_writes = 0;
   // Test only: a worker running a job of this name in its first claim stops making progress
@@ -121,13 +137,19 @@ class JobRunner {
     std::atomic<bool> cancel{false};
     std::atomic<bool> lease_lost{false};
     std::atomic<bool> time_limit_hit{false};
+    std::atomic<bool> setting_up{true};  // until the simulation is built (renew_during_setup)
     // Bumped by the worker at every sign of progress; the heartbeat renews the lease only when it
     // moved since the last renewal (renewed_ticks: heartbeat thread only).
     std::atomic<std::uint64_t> ticks{0};
     std::uint64_t renewed_ticks = 0;
     std::shared_ptr<spdlog::logger> log;  // the job's own ("job-<id>")
     std::chrono::steady_clock::time_point wall_start;
-    std::chrono::steady_clock::time_point last_store_write;  // of progress; worker thread only
+    // Progress writes to the store, at most one per store_progress_interval: the time of the
+    // last, and the newest progress held back since (the heartbeat writes it once the interval
+    // has passed, so a run whose progress comes rarely is not left showing an older one).
+    std::mutex progress_mutex;
+    std::chrono::steady_clock::time_point last_store_write;  // progress_mutex
+    std::optional<JobProgress> unstored_progress;            // progress_mutex
 
     // The one handling of a lost lease: when a fenced write `s` is ABORTED, another claim owns
     // the job now, so this worker stops it and records nothing more. True if so.
@@ -158,6 +180,8 @@ class JobRunner {
   // Test only (test_stall_job): blocks, making no progress and deaf to shutdown (as a worker
   // stuck in a step), until it is told it lost the lease.
   void StallForTest(Running& running);
+  // Test only (test_hog_memory_job): allocates until an allocation throws std::bad_alloc.
+  [[noreturn]] static void HogMemoryForTest(spdlog::logger& log);
   // Runs a claimed job; a simulation's end is handed to `endings` (recorded on its thread).
   void RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlot& endings);
   // After a job's end is recorded: forgotten, its followers told, an idle worker woken.
@@ -176,6 +200,10 @@ class JobRunner {
   void RunCalibration(const JobRecord& job, Running& running);
   // Live progress to the hub, and to the store at most every store_progress_interval.
   void PublishProgress(const std::string& id, Running& running, const JobProgress& progress);
+  // The progress PublishProgress held back, written once the interval has passed (heartbeat).
+  void StoreHeldBackProgress(const std::string& id, Running& running);
+  // Writes progress to the store through the ledger.
+  void StoreProgress(const std::string& id, Running& running, const JobProgress& progress);
   // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; FAILED
   // (DEADLINE_EXCEEDED) over the time limit; for a shutdown an INTERRUPTED event only (the job
   // stays RUNNING, so the next start queues it again); ending.succeed for a success, and FAILED
@@ -190,8 +218,9 @@ class JobRunner {
   // failure says how many tries were made. `injectable`: test_fail_final_writes applies.
   core::Status RetryFinalWrite(Running& running, const char* what, bool injectable,
                                const std::function<core::Status()>& write);
-  // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker).
-  static core::Status CatchAll(const std::function<core::Status()>& body);
+  // A run's body, an exception turned into an INTERNAL outcome (nothing leaves a worker); running
+  // out of memory is RESOURCE_EXHAUSTED, naming the limit when one is known.
+  core::Status CatchAll(const std::function<core::Status()>& body) const;
 
   JobLedger& ledger_;
   JobStore* store_;  // null in a remote worker

@@ -1,5 +1,7 @@
 #include "jobs/runner_flags.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 
@@ -29,6 +31,21 @@ void AddRunnerFlags(CLI::App& app, RunnerFlags& flags, const std::string& lease_
   app.add_option("--lease-s", flags.lease_s, lease_help)
       ->check(CLI::Range(0.5, 86400.0))
       ->capture_default_str();
+}
+
+std::vector<std::string> RunnerFlagArgs(const RunnerFlags& flags) {
+  return {"--threads-per-job",
+          std::to_string(std::max(1, flags.threads_per_job)),
+          "--lease-s",
+          fmt::format("{}", flags.lease_s),
+          "--checkpoint-interval-s",
+          fmt::format("{}", flags.checkpoint_interval_s),
+          "--checkpoint-every-steps",
+          std::to_string(flags.checkpoint_every_steps),
+          "--checkpoints-kept",
+          std::to_string(flags.checkpoints_kept),
+          "--log-level",
+          flags.log_level};
 }
 
 JobRunnerOptions RunnerOptionsFrom(const RunnerFlags& flags) {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "jobs/job_runner.h"
 
@@ -25,6 +26,10 @@ struct RunnerFlags {
 // --checkpoints-kept and --lease-s (with `lease_help`: what an expired lease means for the
 // program). --workers differs (seepd allows 0) and is left to the caller.
 void AddRunnerFlags(CLI::App& app, RunnerFlags& flags, const std::string& lease_help);
+
+// The same flags as a seep-worker command line takes them (seepd passes its own on to the worker
+// processes it starts, and to those its batch jobs start).
+std::vector<std::string> RunnerFlagArgs(const RunnerFlags& flags);
 
 // The runner's options from the flags: workers, threads per job, lease and its renewal
 // interval (several per lease), and the checkpoint policy (on).

@@ -13,17 +13,18 @@ namespace seep::service {
 
 StoreLedger::StoreLedger(JobStore& store, std::filesystem::path checkpoint_dir,
                          std::shared_ptr<spdlog::logger> logger,
-                         const TestCrashPoints* crash_points)
+                         const TestCrashPoints* crash_points, std::optional<JobKind> claims)
     : store_(store),
       checkpoint_dir_(std::move(checkpoint_dir)),
       logger_(std::move(logger)),
-      crash_points_(crash_points) {}
+      crash_points_(crash_points),
+      claims_(claims) {}
 
 core::Result<std::optional<JobRecord>> StoreLedger::Claim(const std::string& owner,
                                                           std::chrono::milliseconds lease) {
   // Relaxed: the claimer is a worker of this process, so a power loss that undoes the claim
   // also ends the worker; the job is queued again and its epoch is never held twice.
-  return store_.ClaimNextQueued(owner, NowMs(), lease.count(), std::nullopt, std::nullopt,
+  return store_.ClaimNextQueued(owner, NowMs(), lease.count(), claims_, std::nullopt,
                                 CommitSync::kRelaxed);
 }
 
@@ -170,6 +171,11 @@ core::Status StoreLedger::Finish(const std::string& id, std::int64_t epoch, JobS
                                  const std::string& error_code, const std::string& error_message,
                                  const std::vector<std::pair<std::string, double>>& metrics,
                                  double wall_time_s) {
+  // A worker process's success: its final state was uploaded, its success not yet recorded
+  // (seepd's own threads record theirs through RecordSuccess).
+  if (crash_points_ != nullptr && state == JobState::kSucceeded) {
+    crash_points_->Reach(TestCrashPoints::kFinalState);
+  }
   return store_.Finish(id, epoch, state, error_code, error_message, metrics, wall_time_s, NowMs());
 }
 

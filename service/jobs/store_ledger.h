@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "jobs/job_ledger.h"
 #include "jobs/test_crash_points.h"
@@ -19,9 +20,11 @@ class StoreLedger final : public JobLedger {
   // Checkpoint files go to <checkpoint_dir>/<job id>/ckpt-<step>.bin. `crash_points` (test only,
   // may be null) is passed between a checkpoint file and its record, and between a finished
   // run's final state made ready (its file written, if it has one) and its success recorded.
+  // `claims`: the only kind of job Claim hands out (none: any); seepd's own threads run only
+  // calibrations when its simulations run in worker processes.
   StoreLedger(JobStore& store, std::filesystem::path checkpoint_dir,
-              std::shared_ptr<spdlog::logger> logger,
-              const TestCrashPoints* crash_points = nullptr);
+              std::shared_ptr<spdlog::logger> logger, const TestCrashPoints* crash_points = nullptr,
+              std::optional<JobKind> claims = std::nullopt);
 
   core::Result<std::optional<JobRecord>> Claim(const std::string& owner,
                                                std::chrono::milliseconds lease) override;
@@ -64,6 +67,7 @@ class StoreLedger final : public JobLedger {
   std::filesystem::path checkpoint_dir_;
   std::shared_ptr<spdlog::logger> logger_;
   const TestCrashPoints* crash_points_;
+  std::optional<JobKind> claims_;
 };
 
 }  // namespace seep::service

@@ -15,8 +15,8 @@ class TestCrashPoints {
  public:
   // After a checkpoint file is written, before the store records it.
   static constexpr std::string_view kCheckpointFile = "checkpoint-file";
-  // After a finished job's final state is made ready (its file written, when it gets one),
-  // before its success is recorded.
+  // After a finished job's final state is made ready (its file written, when it gets one; a
+  // worker process's uploaded), before its success is recorded.
   static constexpr std::string_view kFinalState = "final-state";
 
   // "POINT:N" (N >= 1); INVALID_ARGUMENT naming --test-crash-at otherwise.

@@ -6,6 +6,7 @@
 
 #include "codec/job_codec.h"
 #include "codec/scene_codec.h"
+#include "codec/state_size_estimate.h"
 #include "jobs/secure_random.h"
 #include "jobs/wall_clock.h"
 #include "rpc/handler.h"
@@ -133,7 +134,8 @@ core::Result<std::string> SeepServiceImpl::PrepareSimulationJob(const v1::Scene&
   }
   // Decoded and validated fully, once, before anything is stored: a bad scene leaves no
   // trace. The run decodes the stored bytes again and Simulation::Create validates them.
-  SEEP_RETURN_IF_ERROR(SceneFromProto(scene).status());
+  SEEP_ASSIGN_OR_RETURN(const core::SceneSpec spec, SceneFromProto(scene));
+  SEEP_RETURN_IF_ERROR(CheckJobFitsMemory(spec, guards_.job_memory_limit_bytes));
   std::string bytes;
   if (!scene.SerializeToString(&bytes)) return core::Internal("scene: could not serialize");
   return bytes;

@@ -42,6 +42,9 @@ struct ServiceGuards {
   std::size_t max_response_bytes = kDefaultMaxResponseBytes;
   // WatchJob streams open at once (each holds a server thread); more: RESOURCE_EXHAUSTED.
   int max_watch_streams = kDefaultMaxWatchStreams;
+  // A scene whose run is estimated to need more memory than this is refused at submit
+  // (RESOURCE_EXHAUSTED, with the figures); 0: no limit.
+  std::uint64_t job_memory_limit_bytes = 0;
 };
 
 class SeepServiceImpl final : public v1::SeepService::Service {

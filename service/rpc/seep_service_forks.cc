@@ -147,6 +147,8 @@ core::Result<SeepServiceImpl::ForkStart> SeepServiceImpl::PrepareFork(
   CheckpointMeta meta = chosen.file.meta;
   meta.job_id = fork.id;
   meta.scene_sha256 = Sha256(fork.scene);
+  meta.scene = fork.scene;
+  meta.format_version = kCheckpointFormatVersion;  // the copy is written by this build
   core::Status copied = CreateDirectoriesDurably(dir);
   if (copied.ok()) copied = WriteCheckpointFile(path, meta, chosen.file.state);
   if (!copied.ok()) {

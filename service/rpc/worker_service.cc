@@ -113,11 +113,15 @@ grpc::Status WorkerServiceImpl::ClaimJob(Ctx* ctx, const v1::ClaimJobRequest* re
                                                  JobKind::kSimulation, placement));
     if (!claimed) return core::Status::Ok();
     logger_->info(
-        "job {} claimed by remote worker {}{} (attempt {}, lease epoch {})", claimed->id,
+        "job {} claimed by worker process {}{} (attempt {}, lease epoch {})", claimed->id,
         request->worker(),
         placement ? fmt::format(" in batch job {} on {}", placement->batch_job_id, placement->node)
                   : "",
         claimed->attempt, claimed->lease_epoch);
+    {
+      std::lock_guard lock(counted_mutex_);
+      counted_steps_[claimed->id] = claimed->progress.step;
+    }
     hub_.RecordChanged(claimed->id);  // QUEUED -> RUNNING, for its followers
     hub_.Publish(claimed->id, claimed->progress);
     LeasedJobToProto(*claimed, response->mutable_job());
@@ -143,7 +147,17 @@ core::Status WorkerServiceImpl::StoreProgress(const v1::LeaseRef& lease,
     return ledger_.UpdateProgress(lease.job_id(), lease.lease_epoch(), progress);
   }));
   hub_.Publish(lease.job_id(), progress);
+  CountSteps(lease.job_id(), progress.step);
   return core::Status::Ok();
+}
+
+void WorkerServiceImpl::CountSteps(const std::string& id, std::uint64_t step) {
+  if (metrics_ == nullptr) return;
+  std::lock_guard lock(counted_mutex_);
+  const auto it = counted_steps_.find(id);
+  if (it == counted_steps_.end() || step <= it->second) return;
+  metrics_->AddSteps(step - it->second);
+  it->second = step;
 }
 
 grpc::Status WorkerServiceImpl::Heartbeat(Ctx* ctx, const v1::HeartbeatRequest* request,
@@ -276,10 +290,16 @@ grpc::Status WorkerServiceImpl::ReceiveCheckpoint(
   meta.build_id = start.build_id();
   meta.job_id = job.id;
   meta.scene_sha256 = Sha256(job.scene);  // the stored scene's, not the worker's word for it
+  meta.scene = job.scene;
   meta.step = start.step();
   meta.time_s = start.time_s();
+  const auto writing = std::chrono::steady_clock::now();
   auto kept = ledger_.SaveCheckpoint(job, meta, state, start.keep(), CheckpointRole::kResumePoint);
   if (!kept.ok()) return ToGrpcStatus(kept.status());
+  if (metrics_ != nullptr) {
+    metrics_->RecordCheckpoint(
+        *kept, std::chrono::duration<double>(std::chrono::steady_clock::now() - writing).count());
+  }
   response->set_file_bytes(*kept);
   return grpc::Status::OK;
 }
@@ -339,11 +359,13 @@ grpc::Status WorkerServiceImpl::StoreResultSeries(Ctx* ctx,
     if (request->has_final_progress()) {
       final_progress = ProgressFromProto(request->final_progress());
     }
-    return FencedWrite(request->lease(), "lease", [&] {
+    SEEP_RETURN_IF_ERROR(FencedWrite(request->lease(), "lease", [&] {
       return store_.StoreResultSeries(request->lease().job_id(), request->lease().lease_epoch(),
                                       columns, values, request->state_sha256(),
                                       final_progress ? &*final_progress : nullptr);
-    });
+    }));
+    if (final_progress) CountSteps(request->lease().job_id(), final_progress->step);
+    return core::Status::Ok();
   });
 }
 
@@ -364,8 +386,12 @@ grpc::Status WorkerServiceImpl::FinishJob(Ctx* ctx, const v1::FinishJobRequest* 
       return ledger_.Finish(id, request->lease().lease_epoch(), *state, request->error_code(),
                             request->error_message(), metrics, request->wall_time_s());
     }));
-    logger_->info("job {} {} on a remote worker after {:.3f} s", id, JobStateName(*state),
+    logger_->info("job {} {} in a worker process after {:.3f} s", id, JobStateName(*state),
                   request->wall_time_s());
+    {
+      std::lock_guard lock(counted_mutex_);
+      counted_steps_.erase(id);
+    }
     hub_.Finished(id);
     return core::Status::Ok();
   });

@@ -9,7 +9,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
 
 #include "jobs/job_hub.h"
 #include "jobs/store_ledger.h"
@@ -80,12 +83,18 @@ class WorkerServiceImpl final
                                  const v1::CheckpointUploadStart& start,
                                  v1::UploadCheckpointResponse* response);
 
+  // Counts into metrics_ the steps a job made since the step last counted for it (its claim's
+  // stored progress at first): the steps of jobs in worker processes, from their progress.
+  void CountSteps(const std::string& id, std::uint64_t step);
+
   JobStore& store_;
   StoreLedger& ledger_;
   JobHub& hub_;
   std::shared_ptr<spdlog::logger> logger_;
   WorkerServiceOptions options_;
   ServiceMetrics* metrics_;
+  std::mutex counted_mutex_;
+  std::map<std::string, std::uint64_t> counted_steps_;  // job id -> step counted up to
 };
 
 }  // namespace seep::service

@@ -59,6 +59,7 @@ std::string EncodeCheckpoint(const CheckpointMeta& meta, std::string_view state)
   header.set_build_id(meta.build_id);
   header.set_job_id(meta.job_id);
   header.set_scene_sha256(meta.scene_sha256);
+  header.set_scene(meta.scene);
   header.set_step(meta.step);
   header.set_time_s(meta.time_s);
   const std::size_t chunks = (state.size() + kCheckpointChunkBytes - 1) / kCheckpointChunkBytes;
@@ -120,8 +121,16 @@ core::Result<CheckpointFile> DecodeCheckpoint(std::string_view bytes, std::strin
                     header.format_version(), kCheckpointFormatVersion));
   }
   CheckpointFile file;
-  file.meta = {header.format_version(), header.build_id(), header.job_id(),
-               header.scene_sha256(),   header.step(),     header.time_s()};
+  file.meta.format_version = header.format_version();
+  file.meta.build_id = header.build_id();
+  file.meta.job_id = header.job_id();
+  file.meta.scene_sha256 = header.scene_sha256();
+  file.meta.scene = header.scene();
+  file.meta.step = header.step();
+  file.meta.time_s = header.time_s();
+  if (!file.meta.scene.empty() && Sha256(file.meta.scene) != file.meta.scene_sha256) {
+    return loss("its scene does not have the scene's SHA-256 in its header");
+  }
   file.state.reserve(header.state_bytes());
   for (std::uint32_t c = 0; c < header.chunk_count(); ++c) {
     v1::CheckpointChunk chunk;

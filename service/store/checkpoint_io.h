@@ -23,7 +23,8 @@
 
 namespace seep::service {
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 1;
+// 2: the header carries the scene itself (1: only its hash); both are read.
+inline constexpr std::uint32_t kCheckpointFormatVersion = 2;
 inline constexpr std::size_t kCheckpointChunkBytes = 1u << 20;
 
 struct CheckpointMeta {
@@ -31,6 +32,7 @@ struct CheckpointMeta {
   std::string build_id;
   std::string job_id;
   std::string scene_sha256;  // 32 raw bytes
+  std::string scene;         // the serialized scene (format 2 on; empty when written by 1)
   std::uint64_t step = 0;
   double time_s = 0.0;
 };

@@ -882,6 +882,25 @@ Result<int> JobStore::RequeueRunning(const std::string& current_owner, int max_i
   return static_cast<int>(queued.size());
 }
 
+Result<std::vector<JobRecord>> JobStore::RunningLeasedBy(const std::string& owner_prefix) {
+  const StoreOperation operation("find the jobs a worker holds");
+  std::lock_guard lock(mutex_);
+  // substr, not LIKE: an owner's name may hold '%' or '_'.
+  SEEP_ASSIGN_OR_RETURN(Stmt find,
+                        db_->Prepare(fmt::format("SELECT {} FROM jobs WHERE state = 'RUNNING' AND "
+                                                 "substr(lease_owner, 1, length(?1)) = ?1 "
+                                                 "ORDER BY started_at_ms, rowid",
+                                                 kJobColumns)));
+  find.Bind(1, std::string_view(owner_prefix));
+  std::vector<JobRecord> held;
+  for (;;) {
+    SEEP_ASSIGN_OR_RETURN(const bool row, find.Step());
+    if (!row) break;
+    held.push_back(ReadJobRow(find));
+  }
+  return held;
+}
+
 Result<std::vector<JobRecord>> JobStore::RequeueExpired(
     std::int64_t now_ms, int max_interruptions, std::vector<CrashLoopFailure>* crash_loops) {
   const StoreOperation operation("rescue expired leases");

@@ -270,6 +270,15 @@ class JobStore {
   Result<std::vector<JobRecord>> RequeueExpired(
       std::int64_t now_ms, int max_interruptions = kDefaultMaxInterruptions,
       std::vector<CrashLoopFailure>* crash_loops = nullptr);
+  // The RUNNING jobs whose lease owner begins with owner_prefix (one worker process's), oldest
+  // claim first: what seepd's supervisor of its worker processes looks at.
+  Result<std::vector<JobRecord>> RunningLeasedBy(const std::string& owner_prefix);
+  // A job rebuilt from its checkpoint files after the database was lost
+  // (jobs/checkpoint_recovery.h): inserted QUEUED under its own id, as if claimed once (so that
+  // its next claim continues from its newest checkpoint), with its checkpoint records and a
+  // REBUILT event saying `note`, in one transaction; ALREADY_EXISTS if the id is taken.
+  Status InsertRecovered(const JobRecord& job, const std::vector<CheckpointRecord>& checkpoints,
+                         const std::string& note);
   // A worker stopped by shutdown leaves its job RUNNING for the next start but releases the
   // lease (no expiry), so that the interruption does not count as one without progress.
   // Fenced by the lease epoch.

@@ -10,6 +10,7 @@
 #include <semaphore.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -18,10 +19,13 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "connection.h"
+#include "jobs/escaped_log.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
 #include "jobs/runner_flags.h"
@@ -49,7 +53,28 @@ struct Options {
   std::string name;                   // the lease owner's prefix; default: the host name
   int max_jobs = 0;                   // 0: no limit
   double exit_when_idle_s = 0.0;      // 0: never
+  double job_time_limit_s = 0.0;      // 0: none
+  std::uint64_t memory_limit_mb = 0;  // 0: none
+  bool supervised = false;            // started by seepd (--isolation process)
+  std::string test_segfault_job;
+  std::string test_hog_memory_job;
 };
+
+sem_t g_wake_signalled;
+
+extern "C" void OnWakeSignal(int) { sem_post(&g_wake_signalled); }  // async-signal-safe
+
+// The address space this process may take, so that a job that outgrows it fails alone (its
+// allocation throws std::bad_alloc, or the process ends) instead of starving the machine. Said
+// in the outcome of such a job.
+std::optional<std::string> LimitMemory(std::uint64_t megabytes, bool supervised) {
+  if (megabytes == 0) return std::string();
+  rlimit limit{};
+  limit.rlim_cur = limit.rlim_max = static_cast<rlim_t>(megabytes) << 20;
+  if (setrlimit(RLIMIT_AS, &limit) != 0) return std::nullopt;
+  return fmt::format("the worker process's address space is limited to {} MiB ({})", megabytes,
+                     supervised ? "seepd --job-memory-limit-mb" : "seep-worker --memory-limit-mb");
+}
 
 // Where this worker runs when Slurm started it (its job id and node, from the environment Slurm
 // gives a job), said in every claim; none outside Slurm.
@@ -69,7 +94,7 @@ std::string HostName() {
 int Run(Options& options) {
   auto logger = std::make_shared<spdlog::logger>(
       "seep-worker", std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
-  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e [%n] %l: %v");
+  logger->set_formatter(seep::service::EscapingLogFormatter());
   logger->set_level(spdlog::level::from_str(options.runner.log_level));
   logger->flush_on(spdlog::level::info);
   if (const std::string problem = seep::client::LoadConnectionSecrets(options.connection);
@@ -86,7 +111,24 @@ int Run(Options& options) {
       fmt::format("{}-{}-{:08x}", options.name.empty() ? HostName() : options.name, ::getpid(),
                   static_cast<std::uint32_t>(*owner_bits));
 
+  const auto memory_limit_note = LimitMemory(options.memory_limit_mb, options.supervised);
+  if (!memory_limit_note) {
+    logger->critical("--memory-limit-mb {}: setrlimit(RLIMIT_AS) failed: {}",
+                     options.memory_limit_mb, std::strerror(errno));
+    return 2;
+  }
   sem_init(&g_stop_signalled, 0, 0);
+  // Supervised: seepd wakes an idle worker with SIGUSR1 when jobs are queued (it started this
+  // process with the signal blocked, so none arriving before the handler is lost or fatal).
+  std::jthread wake_listener;
+  if (options.supervised) {
+    sem_init(&g_wake_signalled, 0, 0);
+    struct sigaction wake {};
+    wake.sa_handler = OnWakeSignal;
+    sigemptyset(&wake.sa_mask);
+    wake.sa_flags = SA_RESTART;
+    sigaction(SIGUSR1, &wake, nullptr);
+  }
   struct sigaction action {};
   action.sa_handler = OnStopSignal;
   sigemptyset(&action.sa_mask);
@@ -106,6 +148,12 @@ int Run(Options& options) {
   runner_options.max_jobs = options.max_jobs;
   runner_options.exit_when_idle =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.exit_when_idle_s * 1000));
+  runner_options.job_time_limit =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.job_time_limit_s * 1000));
+  runner_options.memory_limit_note = *memory_limit_note;
+  runner_options.renew_during_setup = options.supervised;
+  runner_options.test_segfault_job = options.test_segfault_job;
+  runner_options.test_hog_memory_job = options.test_hog_memory_job;
   std::atomic<bool> work_done{false};
   runner_options.on_work_done = [&work_done] {
     work_done = true;
@@ -121,6 +169,17 @@ int Run(Options& options) {
       connection.token.empty() ? "" : ", bearer token", options.runner.workers,
       runner_options.threads_per_job, options.runner.lease_s);
   runner.Start();
+  if (options.supervised) {
+    wake_listener = std::jthread([&runner](const std::stop_token& stop) {
+      while (!stop.stop_requested()) {
+        if (sem_wait(&g_wake_signalled) == 0 && !stop.stop_requested()) runner.Wake();
+      }
+    });
+    sigset_t wake_signal;
+    sigemptyset(&wake_signal);
+    sigaddset(&wake_signal, SIGUSR1);
+    pthread_sigmask(SIG_UNBLOCK, &wake_signal, nullptr);
+  }
   while (sem_wait(&g_stop_signalled) != 0) {
   }  // EINTR: wait again
   if (work_done) {
@@ -131,6 +190,11 @@ int Run(Options& options) {
         "exits at once)");
   }
   runner.Stop();
+  if (wake_listener.joinable()) {
+    wake_listener.request_stop();
+    sem_post(&g_wake_signalled);
+    wake_listener.join();  // before the runner it wakes is gone
+  }
   logger->info("seep-worker stopped");
   return 0;
 }
@@ -178,7 +242,32 @@ int main(int argc, char** argv) {
                  "queue is empty)")
       ->check(CLI::Range(0.0, 1e7))
       ->capture_default_str();
+  app.add_option("--job-time-limit-s", options.job_time_limit_s,
+                 "wall seconds one claim of a job may run, set-up included, before it is stopped "
+                 "and FAILED with DEADLINE_EXCEEDED (0: none)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  app.add_option("--memory-limit-mb", options.memory_limit_mb,
+                 "address space this process may take, in MiB (setrlimit RLIMIT_AS): a job that "
+                 "needs more fails RESOURCE_EXHAUSTED, naming it (0: none)")
+      ->capture_default_str();
+  // seepd's own worker processes (seepd --isolation process) only.
+  app.add_flag("--supervised", options.supervised,
+               "started by seepd, which watches it: wakes on SIGUSR1, renews a job's lease "
+               "during its set-up (seepd ends a set-up past the time limit or a cancel)")
+      ->group("");
+  app.add_option("--test-segfault-job", options.test_segfault_job,
+                 "TEST ONLY: a job of this name dies of SIGSEGV 1500 steps into its run")
+      ->group("");
+  app.add_option("--test-hog-memory-job", options.test_hog_memory_job,
+                 "TEST ONLY: a job of this name allocates memory 1500 steps into its run until "
+                 "an allocation fails (needs --memory-limit-mb)")
+      ->group("");
   CLI11_PARSE(app, argc, argv);
+  if (!options.test_hog_memory_job.empty() && options.memory_limit_mb == 0) {
+    std::fprintf(stderr, "seep-worker: --test-hog-memory-job needs --memory-limit-mb\n");
+    return 2;
+  }
   try {
     return Run(options);
   } catch (const std::exception& e) {

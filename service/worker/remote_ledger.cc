@@ -46,6 +46,9 @@ core::Status FromGrpcStatus(const char* rpc, const grpc::Status& status) {
     case grpc::StatusCode::ALREADY_EXISTS:
       mapped = core::StatusCode::kAlreadyExists;
       break;
+    case grpc::StatusCode::RESOURCE_EXHAUSTED:
+      mapped = core::StatusCode::kResourceExhausted;
+      break;
     case grpc::StatusCode::FAILED_PRECONDITION:
       mapped = core::StatusCode::kFailedPrecondition;
       break;

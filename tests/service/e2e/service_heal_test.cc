@@ -21,7 +21,8 @@ class ServiceHeal : public GrpcSeepdTest {
 
 TEST_F(ServiceHeal, SecondSeepdOnTheSameDataFolderRefusesAndTouchesNothing) {
   Start("data", {"--checkpoint-interval-s", "0.2"});
-  const std::string id = Submit(LatticeScene("held", 4e-2));
+  // Seconds of steps: a worker process's progress reaches seepd once a second.
+  const std::string id = Submit(LatticeScene("held", 1.5e-1));
   const v1::Job running = WaitFor(id, [](const v1::Job& j) {
     return j.state() == v1::JOB_STATE_RUNNING && j.progress().step() > 0;
   });
@@ -73,8 +74,8 @@ TEST_F(ServiceHeal, AHungWorkersJobIsRescuedAndEndsBitIdentical) {
   stub_.reset();
   ASSERT_EQ(server_.Stop(SIGTERM), 0);
 
-  Start("data", {"--workers", "2", "--lease-s", "3", "--checkpoint-every-steps", "1000",
-                 "--test-stall-job", "stalls"});
+  Start("data", {"--isolation", "thread", "--workers", "2", "--lease-s", "3",
+                 "--checkpoint-every-steps", "1000", "--test-stall-job", "stalls"});
   const std::string id = Submit(scene);
   const v1::Job done = WaitTerminal(id);
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.DebugString();
@@ -120,7 +121,7 @@ TEST_F(ServiceHeal, AJobOverTheWallTimeLimitFailsNamingTheLimit) {
 // --test-fail-final-writes N (test only) makes the first N tries fail as a store error would;
 // each job gets 5 tries.
 TEST_F(ServiceHeal, AFailingFinalWriteIsRetriedThenTheJobFailsWithTheReason) {
-  Start("data", {"--test-fail-final-writes", "7"});
+  Start("data", {"--isolation", "thread", "--test-fail-final-writes", "7"});
   const v1::Job failed = WaitTerminal(Submit(LatticeScene("never-stored", 1e-3)));  // tries 1-5
   ASSERT_EQ(failed.state(), v1::JOB_STATE_FAILED) << failed.DebugString();
   EXPECT_EQ(failed.error().code(), "UNAVAILABLE");
@@ -140,10 +141,11 @@ TEST_F(ServiceHeal, AFailingFinalWriteIsRetriedThenTheJobFailsWithTheReason) {
 }
 
 // A job that brings seepd down each time it runs (--test-crash-job, test only: _Exit 1500 steps
-// in, before any checkpoint) is run again after each restart until its third interruption
-// without progress; the next start FAILS it with that history and runs the jobs queued behind it.
+// in, before any checkpoint; on seepd's own threads, --isolation thread, where a crash is
+// seepd's) is run again after each restart until its third interruption without progress; the
+// next start FAILS it with that history and runs the jobs queued behind it.
 TEST_F(ServiceHeal, AJobThatCrashesSeepdEachTimeFailsAfterThreeAndTheQueueMovesOn) {
-  const std::vector<std::string> flags = {"--test-crash-job", "crasher"};
+  const std::vector<std::string> flags = {"--isolation", "thread", "--test-crash-job", "crasher"};
   Start("data", flags);
   const std::string crasher = Submit(LatticeScene("crasher", 1e-2));
   const std::string after = Submit(LatticeScene("after", 1e-3));

@@ -262,7 +262,9 @@ TEST_F(ServiceOperations, DeleteRemovesAFinishedJobAndItsFilesAndRefusesARunning
 // checkpoint, finished.
 TEST_F(ServiceOperations, EventsTellAJobsHistoryInOrder) {
   Start("data", {"--checkpoint-every-steps", "300"});
-  const std::string id = Submit(LatticeScene("eventful", 1e-2));
+  // Long enough (about 19,000 steps) to be seen running past step 700: a worker process's
+  // progress reaches seepd once a second.
+  const std::string id = Submit(LatticeScene("eventful", 4e-2));
   ASSERT_EQ(WaitRunningPast(id, 700).state(), v1::JOB_STATE_RUNNING);
   stub_.reset();
   ASSERT_EQ(server_.Stop(SIGTERM), 0);
@@ -309,10 +311,13 @@ TEST_F(ServiceOperations, EventsTellAJobsHistoryInOrder) {
 // deletes the finished jobs older than the limit (records and files), trims the superseded
 // checkpoints of a recent finished job to fit the byte budget and keeps its final one (a small
 // final state, kept in the store: it counts in the budget as a file would), and keeps every
-// checkpoint of a running and of a queued job.
+// checkpoint of a running and of a queued job. On seepd's own threads (--isolation thread),
+// whose small final states go into the store with the success (a worker process uploads its
+// final state as a file, and the counts below are of files).
 TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   const std::vector<std::string> flags = {
-      "--workers", "1", "--checkpoint-every-steps", "300", "--checkpoints-kept", "3"};
+      "--isolation",        "thread", "--workers", "1", "--checkpoint-every-steps", "300",
+      "--checkpoints-kept", "3"};
   Start("data", flags);
   const std::string old_a = Submit(LatticeScene("old-a", 6e-3));
   const std::string old_b = Submit(LatticeScene("old-b", 1e-4));
@@ -403,8 +408,10 @@ TEST_F(ServiceOperations, RetentionDeletesWhatItShouldAndNothingElse) {
   EXPECT_NE(Get(paused).state(), v1::JOB_STATE_FAILED);
 }
 
+// On seepd's own threads (--isolation thread), whose small final states go into the store (a
+// worker process uploads its final state as a file): the count of steps below relies on it.
 TEST_F(ServiceOperations, CheckpointFilesArePrivateSweptAtStartAndFollowAMovedDataFolder) {
-  Start("data", {"--checkpoint-every-steps", "300"});
+  Start("data", {"--isolation", "thread", "--checkpoint-every-steps", "300"});
   const std::string id = Submit(LatticeScene("kept", 3e-3));
   ASSERT_EQ(WaitTerminal(id).state(), v1::JOB_STATE_SUCCEEDED);
   stub_.reset();
@@ -428,7 +435,7 @@ TEST_F(ServiceOperations, CheckpointFilesArePrivateSweptAtStartAndFollowAMovedDa
       << "x";
 
   fs::rename(dir_ / "data", dir_ / "moved");
-  Start("moved", {});
+  Start("moved", {"--isolation", "thread"});
   EXPECT_EQ(CheckpointFiles(id), files);
   EXPECT_FALSE(fs::exists(dir_ / "moved" / "checkpoints" / "j-0000000000000000"));
   EXPECT_NE(Log().find("removed 2 orphan file(s) (no checkpoint record), 1 temporary file(s) of "
@@ -455,7 +462,8 @@ TEST_F(ServiceOperations, CheckpointFilesArePrivateSweptAtStartAndFollowAMovedDa
 // RUNNING; the next start queues it again and it finishes.
 TEST_F(ServiceOperations, HealthIsNotServingWhileDrainingAndTheTimeLimitEndsTheDrain) {
   const std::vector<std::string> flags = {
-      "--lease-s", "600", "--test-stall-job", "stuck", "--shutdown-timeout-s", "2"};
+      "--isolation",          "thread", "--lease-s", "600", "--test-stall-job", "stuck",
+      "--shutdown-timeout-s", "2"};
   Start("data", flags);
   EXPECT_EQ(Health(), grpc::health::v1::HealthCheckResponse::SERVING);
   const std::string id = Submit(LatticeScene("stuck", 1.5e-2));
@@ -476,7 +484,8 @@ TEST_F(ServiceOperations, HealthIsNotServingWhileDrainingAndTheTimeLimitEndsTheD
 }
 
 TEST_F(ServiceOperations, ASecondSignalEndsTheDrainAtOnce) {
-  Start("data", {"--lease-s", "600", "--test-stall-job", "stuck"});  // default limit: 60 s
+  // Default limit: 60 s.
+  Start("data", {"--isolation", "thread", "--lease-s", "600", "--test-stall-job", "stuck"});
   Submit(LatticeScene("stuck", 1.5e-2));
   ASSERT_TRUE(WaitForLog("this worker stops making progress", std::chrono::seconds(60))) << Log();
   ASSERT_EQ(::kill(server_.pid(), SIGINT), 0);

@@ -1,5 +1,6 @@
 #include "store/checkpoint_io.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -153,7 +154,41 @@ TEST_F(CheckpointIoTest, ForeignFilesAndNewerFormatsAreRefused) {
   ASSERT_TRUE(WriteCheckpointFile(future, meta, "x").ok());
   auto read = ReadCheckpointFile(future);
   EXPECT_EQ(read.status().code(), core::StatusCode::kFailedPrecondition);
-  EXPECT_NE(read.status().message().find("format version 2"), std::string::npos);
+  EXPECT_NE(
+      read.status().message().find(fmt::format("format version {}", kCheckpointFormatVersion + 1)),
+      std::string::npos)
+      << read.status().message();
+}
+
+// Format 2 carries the scene itself (what seepd --recover-from-checkpoints rebuilds a job from);
+// a format-1 file, which carries its hash alone, is read as it was, with no scene; a scene that
+// is not the one its hash names is DATA_LOSS.
+TEST_F(CheckpointIoTest, TheSceneTravelsInFormat2AndFormat1IsStillRead) {
+  CheckpointMeta with_scene = Meta(7);
+  with_scene.scene = "scene";  // Meta's scene_sha256 is Sha256("scene")
+  ASSERT_TRUE(WriteCheckpointFile(dir_ / "v2.bin", with_scene, "state").ok());
+  auto v2 = ReadCheckpointFile(dir_ / "v2.bin");
+  ASSERT_TRUE(v2.ok()) << v2.status().ToString();
+  EXPECT_EQ(v2->meta.format_version, 2u);
+  EXPECT_EQ(v2->meta.scene, "scene");
+
+  CheckpointMeta v1_meta = Meta(7);
+  v1_meta.format_version = 1;
+  ASSERT_TRUE(WriteCheckpointFile(dir_ / "v1.bin", v1_meta, "state").ok());
+  auto v1 = ReadCheckpointFile(dir_ / "v1.bin");
+  ASSERT_TRUE(v1.ok()) << v1.status().ToString();
+  EXPECT_EQ(v1->meta.format_version, 1u);
+  EXPECT_TRUE(v1->meta.scene.empty());
+  EXPECT_EQ(v1->state, "state");
+
+  CheckpointMeta mismatched = Meta(7);
+  mismatched.scene = "another scene";
+  ASSERT_TRUE(WriteCheckpointFile(dir_ / "bad.bin", mismatched, "state").ok());
+  auto bad = ReadCheckpointFile(dir_ / "bad.bin");
+  EXPECT_EQ(bad.status().code(), core::StatusCode::kDataLoss);
+  EXPECT_NE(bad.status().message().find("its scene does not have the scene's SHA-256"),
+            std::string::npos)
+      << bad.status().message();
 }
 
 // A client sees a checkpoint's errors (in events, a job's error, DATA_LOSS): they name it from
