@@ -35,10 +35,12 @@
 #include "jobs/checkpoint_sweep.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
+#include "jobs/low_disk_watch.h"
 #include "jobs/physics_pool.h"
 #include "jobs/retention.h"
 #include "jobs/runner_flags.h"
 #include "jobs/secure_random.h"
+#include "jobs/startup_recovery.h"
 #include "jobs/store_ledger.h"
 #include "jobs/test_crash_points.h"
 #include "metrics/metrics_endpoint.h"
@@ -84,6 +86,8 @@ struct Options {
   int max_message_bytes = 64 << 20;
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
   bool accept_lost_database = false;         // start on an empty store beside checkpoint files
+  std::uint64_t min_free_disk_mb = 256;      // kept free on the data folder's file system
+  std::string test_free_disk_bytes_file;     // test only: the free space, read from this file
   double retain_days = 0.0;                  // 0: finished jobs are kept however old
   std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
   double retention_interval_s = 600.0;
@@ -428,7 +432,8 @@ int Run(const Options& options) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   const std::string db_path = (std::filesystem::path(options.data_dir) / "seep.db").string();
-  auto store = seep::service::JobStore::Open(db_path);
+  auto store = seep::service::JobStore::Open(
+      db_path, {options.min_free_disk_mb << 20, options.test_free_disk_bytes_file});
   if (!store.ok()) {
     logger->critical("cannot open the job store {}: {}", db_path, store.status().ToString());
     return 1;
@@ -440,17 +445,11 @@ int Run(const Options& options) {
     return 1;
   }
   const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), *owner_bits);
-  std::vector<seep::service::CrashLoopFailure> crash_loops;
-  if (auto requeued =
-          (*store)->RequeueRunning(lease_owner, options.max_interruptions, &crash_loops);
-      !requeued.ok()) {
-    logger->critical("recovery failed: {}", requeued.status().ToString());
+  // On a disk too full for it, put off (seepd serves read-only until space is back).
+  seep::service::StartupRecovery recovery(**store, lease_owner, options.max_interruptions, logger);
+  if (auto recovered = recovery.Run(); !recovered.ok()) {
+    logger->critical("recovery failed: {}", recovered.ToString());
     return 1;
-  } else if (*requeued > 0) {
-    logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
-  }
-  for (const auto& failure : crash_loops) {
-    logger->warn("job {} failed: {}", failure.id, failure.message);
   }
   // No worker runs yet: whatever a crash left in the checkpoint folder can go.
   const std::filesystem::path checkpoints_dir =
@@ -559,6 +558,7 @@ int Run(const Options& options) {
     runner.Wake();
     if (slurm) slurm->Wake();
   };
+  seep::service::LowDiskWatch low_disk_watch(**store, recovery, wake_executors, logger);
   seep::service::SeepServiceImpl service(
       **store, hub, physics, SEEP_BUILD_ID,
       {wake_executors,
@@ -640,6 +640,7 @@ int Run(const Options& options) {
   }
   runner.Start();
   retention.Start();
+  low_disk_watch.Start();
 
   std::thread signal_waiter([&] {
     // This thread takes the signals itself: every other thread of ours blocks them, and the
@@ -661,6 +662,7 @@ int Run(const Options& options) {
       // Batch jobs already submitted keep running: their workers reconnect to the next seepd.
       if (slurm) slurm->Stop();
       retention.Stop();
+      low_disk_watch.Stop();
       runner.Stop();
       server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
       drained = true;
@@ -745,6 +747,17 @@ int main(int argc, char** argv) {
   app.add_flag("--accept-lost-database", options.accept_lost_database,
                "start on an empty store although checkpoint files exist (its database was lost): "
                "the files move to <data-dir>/lost-checkpoints, and nothing is deleted");
+  app.add_option("--min-free-disk-mb", options.min_free_disk_mb,
+                 "MiB kept free on the data folder's file system: below it submits are refused "
+                 "(RESOURCE_EXHAUSTED), no job starts, a running job fails at its next "
+                 "checkpoint (resumable), the WAL gives its space back, and reads go on; seepd "
+                 "started below it serves read-only until space is freed (0 = no threshold)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 40))
+      ->capture_default_str();
+  app.add_option("--test-free-disk-bytes-file", options.test_free_disk_bytes_file,
+                 "TEST ONLY: read the data folder's free space (bytes) from this file instead of "
+                 "the file system")
+      ->group("");
   app.add_option("--retain-days", options.retain_days,
                  "delete finished jobs (with their checkpoints) this many days after they "
                  "finished; fractions allowed (0 = keep them)")

@@ -147,6 +147,7 @@ core::Result<SeepServiceImpl::ForkStart> SeepServiceImpl::PrepareFork(
   CheckpointMeta meta = chosen.file.meta;
   meta.job_id = fork.id;
   meta.scene_sha256 = Sha256(fork.scene);
+  SEEP_RETURN_IF_ERROR(store_.free_space().CheckRoom(kNoNewJobs, chosen.file.state.size()));
   core::Status copied = CreateDirectoriesDurably(dir);
   if (copied.ok()) copied = WriteCheckpointFile(path, meta, chosen.file.state);
   if (!copied.ok()) {

@@ -22,6 +22,9 @@ grpc::Status ToGrpcStatus(const core::Status& status) {
     case StatusCode::kAlreadyExists:
       code = grpc::StatusCode::ALREADY_EXISTS;
       break;
+    case StatusCode::kResourceExhausted:
+      code = grpc::StatusCode::RESOURCE_EXHAUSTED;
+      break;
     case StatusCode::kFailedPrecondition:
       code = grpc::StatusCode::FAILED_PRECONDITION;
       break;
