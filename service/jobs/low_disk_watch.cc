@@ -15,6 +15,10 @@ LowDiskWatch::LowDiskWatch(JobStore& store, StartupRecovery& recovery,
 LowDiskWatch::~LowDiskWatch() { Stop(); }
 
 void LowDiskWatch::Start() {
+  if (const auto& file = store_.free_space().policy().test_free_bytes_file; !file.empty()) {
+    logger_->warn("test hook --test-free-disk-bytes-file {} is on: not for production",
+                  file.string());
+  }
   thread_ = std::jthread([this](const std::stop_token& stop) {
     while (!stop.stop_requested()) {
       LookOnce();
