@@ -71,6 +71,7 @@ std::string FormatJob(const v1::Job& job) {
   if (job.cancel_requested() && job.state() == v1::JOB_STATE_RUNNING) {
     out += "cancel    requested; the job stops at its next step\n";
   }
+  if (!job.held_reason().empty()) out += fmt::format("held      {}\n", job.held_reason());
   if (job.has_error()) {
     out += fmt::format("error     {}: {}\n", job.error().code(), job.error().message());
   }

@@ -37,10 +37,12 @@
 #include "jobs/escaped_log.h"
 #include "jobs/job_hub.h"
 #include "jobs/job_runner.h"
+#include "jobs/low_disk_watch.h"
 #include "jobs/physics_pool.h"
 #include "jobs/retention.h"
 #include "jobs/runner_flags.h"
 #include "jobs/secure_random.h"
+#include "jobs/startup_recovery.h"
 #include "jobs/store_ledger.h"
 #include "jobs/test_crash_points.h"
 #include "metrics/metrics_endpoint.h"
@@ -94,6 +96,8 @@ struct Options {
   std::size_t max_scene_bytes = seep::service::kDefaultMaxSceneBytes;
   bool accept_lost_database = false;         // start on an empty store beside checkpoint files
   bool recover_from_checkpoints = false;     // rebuild an empty store's jobs from the files
+  std::uint64_t min_free_disk_mb = 256;      // kept free on the data folder's file system
+  std::string test_free_disk_bytes_file;     // test only: the free space, read from this file
   double retain_days = 0.0;                  // 0: finished jobs are kept however old
   std::int64_t retain_checkpoint_bytes = 0;  // 0: no budget
   double retention_interval_s = 600.0;
@@ -413,7 +417,8 @@ int Run(const Options& options) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   const std::string db_path = (std::filesystem::path(options.data_dir) / "seep.db").string();
-  auto store = seep::service::JobStore::Open(db_path);
+  auto store = seep::service::JobStore::Open(
+      db_path, {options.min_free_disk_mb << 20, options.test_free_disk_bytes_file});
   if (!store.ok()) {
     logger->critical("cannot open the job store {}: {}", db_path, store.status().ToString());
     return 1;
@@ -425,17 +430,11 @@ int Run(const Options& options) {
     return 1;
   }
   const std::string lease_owner = fmt::format("seepd-{}-{:016x}", ::getpid(), *owner_bits);
-  std::vector<seep::service::CrashLoopFailure> crash_loops;
-  if (auto requeued =
-          (*store)->RequeueRunning(lease_owner, options.max_interruptions, &crash_loops);
-      !requeued.ok()) {
-    logger->critical("recovery failed: {}", requeued.status().ToString());
+  // On a disk too full for it, put off (seepd serves read-only until space is back).
+  seep::service::StartupRecovery recovery(**store, lease_owner, options.max_interruptions, logger);
+  if (auto recovered = recovery.Run(); !recovered.ok()) {
+    logger->critical("recovery failed: {}", recovered.ToString());
     return 1;
-  } else if (*requeued > 0) {
-    logger->info("recovered {} interrupted job(s); queued to run again", *requeued);
-  }
-  for (const auto& failure : crash_loops) {
-    logger->warn("job {} failed: {}", failure.id, failure.message);
   }
   // No worker runs yet: whatever a crash left in the checkpoint folder can go.
   const std::filesystem::path checkpoints_dir =
@@ -607,6 +606,7 @@ int Run(const Options& options) {
     if (local_workers) local_workers->Wake();
     if (slurm) slurm->Wake();
   };
+  seep::service::LowDiskWatch low_disk_watch(**store, recovery, wake_executors, logger);
   seep::service::SeepServiceImpl service(
       **store, hub, physics, SEEP_BUILD_ID,
       {wake_executors,
@@ -712,6 +712,7 @@ int Run(const Options& options) {
   }
   runner.Start();
   retention.Start();
+  low_disk_watch.Start();
 
   std::thread signal_waiter([&] {
     // This thread takes the signals itself: every other thread of ours blocks them, and the
@@ -738,6 +739,7 @@ int Run(const Options& options) {
         local_workers->Stop(std::chrono::milliseconds(
             static_cast<std::int64_t>(options.shutdown_timeout_s * 1000 * 0.8)));
       }
+      low_disk_watch.Stop();
       runner.Stop();
       server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
       drained = true;
@@ -849,6 +851,17 @@ int main(int argc, char** argv) {
                "and continues from its newest checkpoint (labels, priority and results are not in "
                "the files); refused on a store that holds jobs")
       ->excludes("--accept-lost-database");
+  app.add_option("--min-free-disk-mb", options.min_free_disk_mb,
+                 "MiB kept free on the data folder's file system: below it submits are refused "
+                 "(RESOURCE_EXHAUSTED), no job starts, a running job fails at its next "
+                 "checkpoint (resumable), the WAL gives its space back, and reads go on; seepd "
+                 "started below it serves read-only until space is freed (0 = no threshold)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 40))
+      ->capture_default_str();
+  app.add_option("--test-free-disk-bytes-file", options.test_free_disk_bytes_file,
+                 "TEST ONLY: read the data folder's free space (bytes) from this file instead of "
+                 "the file system")
+      ->group("");
   app.add_option("--retain-days", options.retain_days,
                  "delete finished jobs (with their checkpoints) this many days after they "
                  "finished; fractions allowed (0 = keep them)")

@@ -274,6 +274,8 @@ void SlurmExecutor::ReconcileOnce() {
                    ? "its job was cancelled"
                    : "not needed: fewer jobs are queued");
   }
+  // No job starts on a low disk (store/free_space.h): a worker sent now would find none to claim.
+  if (plan.submit > 0 && store_.free_space().Low()) return;
   for (int i = 0; i < plan.submit; ++i) {
     auto submitted = Submit();
     if (!submitted.ok()) {

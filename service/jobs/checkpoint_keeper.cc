@@ -84,6 +84,9 @@ core::Status CheckpointKeeper::Write(const core::Simulation& sim) {
     if (saved.status().code() == core::StatusCode::kAborted) return saved.status();
     log_->warn("checkpoint at step {} not kept: {}", sim.step(), saved.status().ToString());
     Event("CHECKPOINT_FAILED", fmt::format("step {}: {}", sim.step(), saved.status().ToString()));
+    // A full disk stops the run (a run that went on would keep no checkpoint at all); any other
+    // failure leaves it running, less protected.
+    if (saved.status().code() == core::StatusCode::kResourceExhausted) return saved.status();
     return core::Status::Ok();
   }
   CountWritten(*saved,

@@ -54,7 +54,8 @@ class CheckpointKeeper {
   core::Status MaybeWrite(const core::Simulation& sim);
   // Writes one now (at shutdown, cancel and the end of a run). A failure is logged and recorded
   // as an event; the run goes on (its result is still correct, only less protected). A lost
-  // lease is returned as ABORTED so the caller stops.
+  // lease is returned as ABORTED so the caller stops, and a full disk (the ledger's
+  // RESOURCE_EXHAUSTED) too, so that the caller fails the job with the reason.
   core::Status Write(const core::Simulation& sim);
   // The run's final state, already serialized (SerializeSimulationState of its snapshot), as the
   // ledger keeps it with the run's success (JobLedger::RecordSuccess); nullopt when checkpoints

@@ -73,7 +73,8 @@ class JobLedger {
 
   // Keeps `state` as the job's checkpoint at meta.step (its file written atomically and
   // verified, then recorded, and the job's checkpoints beyond the newest `keep` removed).
-  // Returns the file's size in bytes.
+  // Returns the file's size in bytes; RESOURCE_EXHAUSTED, nothing written, when the disk is too
+  // full for it (below seepd's --min-free-disk-mb once written, or the file system refused it).
   virtual core::Result<std::int64_t> SaveCheckpoint(const JobRecord& job,
                                                     const CheckpointMeta& meta,
                                                     std::string_view state, std::uint32_t keep,

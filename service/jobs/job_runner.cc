@@ -288,6 +288,14 @@ bool JobRunner::Running::StopIfLeaseLost(const core::Status& s) {
   return true;
 }
 
+bool JobRunner::Running::StopIfDiskFull(const core::Status& s) {
+  if (s.code() != core::StatusCode::kResourceExhausted) return false;
+  log->error("{}; stopping the job", s.message());
+  disk_full = s;
+  stop.request_stop();
+  return true;
+}
+
 void JobRunner::RunJob(JobRecord job, const std::stop_token& shutdown, EndingSlot& endings) {
   auto running = std::make_shared<Running>();
   running->epoch = job.lease_epoch;
@@ -435,7 +443,8 @@ std::function<void()> JobRunner::RunSimulation(JobRecord claimed,
       }
       if (running.lease_lost) return;  // stopping: another claim writes the checkpoints now
       ++running.ticks;
-      running.StopIfLeaseLost(keeper.MaybeWrite(at));
+      const core::Status written = keeper.MaybeWrite(at);
+      if (!running.StopIfLeaseLost(written)) running.StopIfDiskFull(written);
     };
     core::Status ran = sim->Run(control);
     if (options_.metrics != nullptr) options_.metrics->AddSteps(uncounted_steps);
@@ -454,8 +463,10 @@ void JobRunner::ConcludeSimulation(SimulationRun& run) {
   Ending ending;
   ending.kind = "";
   ending.keep_state = [&](bool stopped) {
-    // A stopped run sits at a step boundary: keep its state so that it continues from here.
-    if (stopped && sim && keeper.Write(*sim).code() == core::StatusCode::kAborted) {
+    // A stopped run sits at a step boundary: keep its state so that it continues from here
+    // (unless a full disk stopped it: there is no room for it).
+    if (stopped && running.disk_full.ok() && sim &&
+        keeper.Write(*sim).code() == core::StatusCode::kAborted) {
       log->warn("lease lost while writing the last checkpoint; nothing recorded");
       return false;
     }
@@ -580,6 +591,15 @@ void JobRunner::Conclude(const JobRecord& job, Running& running, const core::Sta
     stored = ledger_.Finish(job.id, running.epoch, JobState::kFailed, "DEADLINE_EXCEEDED", message,
                             {}, wall_s);
     log->warn("{}failed: {}", ending.kind, message);
+  } else if (stopped && !running.disk_full.ok()) {
+    const std::string message = fmt::format(
+        "{}; the job stopped there and keeps its newest checkpoint: free space on the data "
+        "folder's disk (or lower --min-free-disk-mb), then `seep resume` continues it from that "
+        "checkpoint",
+        running.disk_full.message());
+    stored = ledger_.Finish(job.id, running.epoch, JobState::kFailed, "RESOURCE_EXHAUSTED", message,
+                            {}, wall_s);
+    log->error("{}failed: {}", ending.kind, message);
   } else if (stopped) {
     // Shutdown, not a user's cancel: leave the job RUNNING so the next start queues it again,
     // its lease released (a clean stop is not an interruption without progress).

@@ -151,9 +151,16 @@ class JobRunner {
     std::chrono::steady_clock::time_point last_store_write;  // progress_mutex
     std::optional<JobProgress> unstored_progress;            // progress_mutex
 
+    // Why a checkpoint could not be written for lack of disk space (its RESOURCE_EXHAUSTED);
+    // set by the worker before it stops the run, read by Conclude after the run ended.
+    core::Status disk_full;
+
     // The one handling of a lost lease: when a fenced write `s` is ABORTED, another claim owns
     // the job now, so this worker stops it and records nothing more. True if so.
     bool StopIfLeaseLost(const core::Status& s);
+    // A checkpoint the disk had no room for (`s` RESOURCE_EXHAUSTED) stops the run, to be FAILED
+    // with the reason: its newest checkpoint stays its resume point. True if so.
+    bool StopIfDiskFull(const core::Status& s);
   };
   // What differs between the end of a simulation and that of a calibration (see Conclude).
   struct Ending {
@@ -205,7 +212,8 @@ class JobRunner {
   // Writes progress to the store through the ledger.
   void StoreProgress(const std::string& id, Running& running, const JobProgress& progress);
   // Records how a run ended: nothing after a lost lease; CANCELLED for a user's cancel; FAILED
-  // (DEADLINE_EXCEEDED) over the time limit; for a shutdown an INTERRUPTED event only (the job
+  // (DEADLINE_EXCEEDED) over the time limit; FAILED (RESOURCE_EXHAUSTED) when a checkpoint found
+  // the disk full; for a shutdown an INTERRUPTED event only (the job
   // stays RUNNING, so the next start queues it again); ending.succeed for a success, and FAILED
   // with its reason when that cannot be recorded; FAILED with the outcome otherwise.
   void Conclude(const JobRecord& job, Running& running, const core::Status& outcome,

@@ -69,6 +69,8 @@ core::Result<std::int64_t> StoreLedger::SaveCheckpoint(const JobRecord& job,
                                                        CheckpointRole role) {
   const std::filesystem::path path = CheckpointPath(job, meta.step);
   const std::string bytes = EncodeCheckpoint(meta, state);
+  SEEP_RETURN_IF_ERROR(store_.free_space().CheckRoom(
+      fmt::format("the checkpoint at step {} is not written", meta.step), bytes.size()));
   SEEP_RETURN_IF_ERROR(CreateDirectoriesDurably(path.parent_path()));
   SEEP_RETURN_IF_ERROR(WriteCheckpointBytes(path, bytes));
   if (crash_points_ != nullptr) crash_points_->Reach(TestCrashPoints::kCheckpointFile);
@@ -108,7 +110,9 @@ core::Result<FinalStateKept> StoreLedger::RecordSuccess(
       record->content = std::move(bytes);
     } else {
       const std::filesystem::path path = CheckpointPath(job, record->step);
-      kept.failure = CreateDirectoriesDurably(path.parent_path());
+      // The success stands without it when the disk is low: kept as an event, not a file.
+      kept.failure = store_.free_space().CheckRoom("the final state is not kept", bytes.size());
+      if (kept.failure.ok()) kept.failure = CreateDirectoriesDurably(path.parent_path());
       if (kept.failure.ok()) kept.failure = WriteCheckpointBytes(path, bytes);
       if (!kept.failure.ok()) {
         kept.failure =

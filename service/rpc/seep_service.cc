@@ -10,6 +10,7 @@
 #include "jobs/secure_random.h"
 #include "jobs/wall_clock.h"
 #include "rpc/handler.h"
+#include "rpc/held_reason.h"
 #include "rpc/job_labels.h"
 #include "rpc/page_token.h"
 
@@ -147,6 +148,7 @@ grpc::Status SeepServiceImpl::GetJob(grpc::ServerContext* ctx, const v1::GetJobR
     SEEP_RETURN_IF_ERROR(RequireId(req->id(), "id"));
     SEEP_ASSIGN_OR_RETURN(const JobRecord job, LoadJob(req->id()));
     JobToProto(job, /*with_scene=*/true, resp->mutable_job());
+    SetHeldReason(HeldReason(store_.free_space()), *resp->mutable_job());
     if (job.placement) {
       // The batch job's state as the executor last saw it; unknown when seepd did not submit it.
       if (auto batch = store_.GetBatchJob(job.placement->batch_job_id); batch.ok()) {
@@ -191,11 +193,14 @@ grpc::Status SeepServiceImpl::ListJobs(grpc::ServerContext* ctx, const v1::ListJ
     }
     SEEP_ASSIGN_OR_RETURN(filter.labels, CheckLabels(req->labels()));
     SEEP_ASSIGN_OR_RETURN(JobPage page, store_.List(PageSize(req->page_size()), cursor, filter));
+    const std::string held = HeldReason(store_.free_space());
     for (JobRecord& job : page.jobs) {
       if (job.state == JobState::kRunning) {
         if (auto live = hub_.Live(job.id)) job.progress = *live;
       }
-      JobToProto(job, /*with_scene=*/false, resp->add_jobs());
+      v1::Job* wire = resp->add_jobs();
+      JobToProto(job, /*with_scene=*/false, wire);
+      SetHeldReason(held, *wire);
     }
     if (page.next_cursor) resp->set_next_page_token(EncodePageToken(*page.next_cursor, *req));
     return core::Status::Ok();
@@ -234,6 +239,7 @@ core::Status SeepServiceImpl::StreamJob(grpc::ServerContext& ctx, const std::str
     }
     v1::JobEvent event;
     JobToProto(job, /*with_scene=*/false, event.mutable_job());
+    SetHeldReason(HeldReason(store_.free_space()), *event.mutable_job());
     if (event.job().has_result()) *event.mutable_result() = event.job().result();
     std::string bytes = event.SerializeAsString();
     if (bytes != last_sent) {

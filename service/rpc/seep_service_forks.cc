@@ -149,6 +149,7 @@ core::Result<SeepServiceImpl::ForkStart> SeepServiceImpl::PrepareFork(
   meta.scene_sha256 = Sha256(fork.scene);
   meta.scene = fork.scene;
   meta.format_version = kCheckpointFormatVersion;  // the copy is written by this build
+  SEEP_RETURN_IF_ERROR(store_.free_space().CheckRoom(kNoNewJobs, chosen.file.state.size()));
   core::Status copied = CreateDirectoriesDurably(dir);
   if (copied.ok()) copied = WriteCheckpointFile(path, meta, chosen.file.state);
   if (!copied.ok()) {

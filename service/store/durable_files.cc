@@ -15,8 +15,13 @@ namespace {
 
 using core::Status;
 
+// A full disk (or quota) is RESOURCE_EXHAUSTED: a running job's checkpoint that meets one stops
+// the job with the reason (jobs/job_runner.h) instead of being retried as a passing failure.
 Status ErrnoStatus(const std::string& what, const std::filesystem::path& path) {
-  return core::Unavailable(fmt::format("{} {}: {}", what, path.string(), std::strerror(errno)));
+  const int error = errno;
+  const auto code = error == ENOSPC || error == EDQUOT ? core::StatusCode::kResourceExhausted
+                                                       : core::StatusCode::kUnavailable;
+  return {code, fmt::format("{} {}: {}", what, path.string(), std::strerror(error))};
 }
 
 std::filesystem::path ParentOf(const std::filesystem::path& path) {

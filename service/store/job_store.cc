@@ -332,7 +332,8 @@ Status CheckFiniteMetrics(const std::vector<std::pair<std::string, double>>& met
   return Status::Ok();
 }
 
-Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
+Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path,
+                                                 FreeSpacePolicy free_space) {
   const StoreOperation operation("open the database");
   SEEP_ASSIGN_OR_RETURN(Db db, Db::Open(path));
   // WAL for concurrent readers; FULL so that an acknowledged submit or a terminal state survives
@@ -343,8 +344,8 @@ Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
   std::error_code ec;
   std::filesystem::path data_dir = std::filesystem::absolute(path, ec).lexically_normal();
   data_dir = data_dir.has_parent_path() ? data_dir.parent_path() : data_dir;
-  std::unique_ptr<JobStore> store(
-      new JobStore(std::make_unique<Db>(std::move(db)), std::move(data_dir)));
+  std::unique_ptr<JobStore> store(new JobStore(std::make_unique<Db>(std::move(db)),
+                                               std::move(data_dir), std::move(free_space)));
   SEEP_RETURN_IF_ERROR(store->Migrate());
   // SQLite names the WAL after the database; reading in WAL mode (Migrate did) created it.
   SEEP_ASSIGN_OR_RETURN(store->durability_window_,
@@ -357,8 +358,28 @@ Result<std::unique_ptr<JobStore>> JobStore::Open(const std::string& path) {
 std::uint64_t JobStore::WindowedSyncs() const { return durability_window_->syncs(); }
 bool JobStore::WindowedCommitPending() const { return durability_window_->pending(); }
 
-JobStore::JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir)
-    : db_(std::move(db)), data_dir_(std::move(data_dir)) {}
+JobStore::JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir,
+                   FreeSpacePolicy free_space)
+    : data_dir_(std::move(data_dir)),
+      free_space_(data_dir_, std::move(free_space)),
+      db_(std::move(db)) {
+  db_->set_free_space(&free_space_);
+}
+
+Status JobStore::FitWalToDisk(bool low) {
+  const StoreOperation operation("fit the WAL to the disk");
+  std::lock_guard lock(mutex_);
+  SEEP_RETURN_IF_ERROR(
+      db_->Run(low ? "PRAGMA journal_size_limit=0" : "PRAGMA journal_size_limit=-1"));
+  if (!low) return Status::Ok();
+  SEEP_ASSIGN_OR_RETURN(Stmt truncate, db_->Prepare("PRAGMA wal_checkpoint(TRUNCATE)"));
+  SEEP_ASSIGN_OR_RETURN(const bool row, truncate.Step());
+  // Its row: busy (a reader or writer kept it from finishing), WAL frames, frames copied.
+  if (row && truncate.ColumnInt(0) != 0) {
+    return core::Unavailable("store: the WAL is in use; it is truncated at the next try");
+  }
+  return Status::Ok();
+}
 JobStore::~JobStore() = default;
 
 Status JobStore::Migrate() {
@@ -394,6 +415,7 @@ Result<std::optional<std::string>> JobStore::FindByRequestIdLocked(const std::st
 }
 
 Result<InsertOutcome> JobStore::Insert(const JobRecord& job) {
+  SEEP_RETURN_IF_ERROR(free_space_.CheckRoom(kNoNewJobs));
   const StoreOperation operation("insert job");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));
@@ -565,6 +587,9 @@ Result<JobPage> JobStore::List(std::uint32_t limit, std::optional<std::int64_t> 
 Result<std::optional<JobRecord>> JobStore::ClaimNextQueued(
     const std::string& owner, std::int64_t now_ms, std::int64_t lease_ms,
     std::optional<JobKind> kind, const std::optional<WorkerPlacement>& placement, CommitSync sync) {
+  // A job started on a low disk would fail at its first checkpoint: none starts, and the queued
+  // ones say why (SeepService's held_reason) until space is freed.
+  if (free_space_.Low()) return std::optional<JobRecord>();
   const StoreOperation operation("claim a queued job");
   std::lock_guard lock(mutex_);
   const RelaxedCommit relaxed(*db_, sync == CommitSync::kRelaxed);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "durability_window.h"
+#include "free_space.h"
 #include "job_record.h"
 #include "seep/core/status.h"
 #include "stored_calibration.h"
@@ -95,9 +96,18 @@ class JobStore {
   ~JobStore();
 
   // The folder holding the database is the data folder: checkpoint paths inside it are stored
-  // relative to it, so the folder can be moved (see RecordCheckpoint).
-  static Result<std::unique_ptr<JobStore>> Open(const std::string& path);
+  // relative to it, so the folder can be moved (see RecordCheckpoint). `free_space`: how much of
+  // its file system is kept free (store/free_space.h); below it Insert, InsertFork and
+  // InsertSweep are RESOURCE_EXHAUSTED, and so is any write the file system refuses.
+  static Result<std::unique_ptr<JobStore>> Open(const std::string& path,
+                                                FreeSpacePolicy free_space = {});
   const std::filesystem::path& data_dir() const { return data_dir_; }
+  const FreeSpaceGuard& free_space() const { return free_space_; }
+  // While the disk is low (`low`), the WAL gives its space back: a checkpoint that resets it
+  // also truncates the file, and one is run now that copies every frame back and truncates it
+  // (UNAVAILABLE when a reader kept it from finishing: try again later). Not low: the WAL keeps
+  // its size once more, its pages reused rather than allocated again at every reset.
+  Status FitWalToDisk(bool low);
 
   // Stores a new QUEUED job; with a request_id already present, returns that job instead.
   Result<InsertOutcome> Insert(const JobRecord& job);
@@ -120,6 +130,7 @@ class JobStore {
   // same transaction, and returns it; with `kind` set, only a job of that kind (a remote worker
   // runs simulations only). `placement`: where the
   // claiming remote worker runs (its batch job and node), recorded with the job (none: cleared).
+  // Nothing is claimed while the disk is low (free_space()).
   // `sync`: kRelaxed only for a claim whose holder dies with this process (seepd's own
   // workers): lost to a power loss, the job is simply queued again, and no live worker can hold
   // an epoch the store forgot.
@@ -285,7 +296,7 @@ class JobStore {
   Status ReleaseLease(const std::string& id, std::int64_t epoch);
 
  private:
-  JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir);
+  JobStore(std::unique_ptr<Db> db, std::filesystem::path data_dir, FreeSpacePolicy free_space);
   // A checkpoint path as stored (relative inside the data folder) and as returned (resolved).
   std::string StoredCheckpointPath(const std::string& path) const;
   std::filesystem::path ResolvedCheckpointPath(const std::string& stored) const;
@@ -330,9 +341,10 @@ class JobStore {
                                                  int max_interruptions,
                                                  std::vector<CrashLoopFailure>* crash_loops);
 
+  std::filesystem::path data_dir_;  // absolute, normalized
+  FreeSpaceGuard free_space_;       // before db_, whose errors name what it measures
   std::mutex mutex_;
   std::unique_ptr<Db> db_;
-  std::filesystem::path data_dir_;  // absolute, normalized
   // After db_: destroyed first, so that it syncs what is pending while the connection (which
   // keeps the WAL file) is still open.
   std::unique_ptr<DurabilityWindow> durability_window_;

@@ -11,6 +11,7 @@ namespace seep::service {
 
 Result<InsertOutcome> JobStore::InsertFork(const JobRecord& job, const CheckpointRecord& start) {
   if (!job.parent_job_id) return core::Internal("store: InsertFork needs the fork's parent");
+  SEEP_RETURN_IF_ERROR(free_space_.CheckRoom(kNoNewJobs));
   const StoreOperation operation("insert a fork");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));

@@ -9,6 +9,7 @@ namespace seep::service {
 
 Result<SweepInsertOutcome> JobStore::InsertSweep(const SweepRecord& sweep,
                                                  const std::vector<JobRecord>& jobs) {
+  SEEP_RETURN_IF_ERROR(free_space_.CheckRoom(kNoNewJobs));
   const StoreOperation operation("insert sweep");
   std::lock_guard lock(mutex_);
   SEEP_ASSIGN_OR_RETURN(WriteTx tx, WriteTx::Begin(*db_));

@@ -4,6 +4,7 @@
 
 #include <mutex>
 
+#include "free_space.h"
 #include "seep/core/log.h"
 
 namespace seep::service {
@@ -13,11 +14,19 @@ thread_local const char* t_operation = nullptr;
 
 // The full story (SQLite's message, the statement) goes to the log; the Status names the
 // operation and the kind of failure only.
-Status SqliteError(sqlite3* db, int rc, std::string_view what, std::string_view sql = {}) {
+Status SqliteError(sqlite3* db, int rc, std::string_view what, std::string_view sql = {},
+                   const FreeSpaceGuard* free_space = nullptr) {
   const char* detail = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
   const char* operation = StoreOperation::Current();
   core::Logger()->error("store: {} failed in {}: {} (sqlite code {}){}{}", operation, what, detail,
                         rc, sql.empty() ? "" : "; statement: ", sql);
+  const int primary = rc & 0xff;
+  if (primary == SQLITE_FULL) {
+    return core::ResourceExhausted(fmt::format(
+        "store: {} failed: disk full: {} (sqlite code {}; {}; details in seepd's log)", operation,
+        sqlite3_errstr(rc), rc,
+        free_space != nullptr ? free_space->Measure().Figures() : "free space not measured"));
+  }
   const auto code = (rc == SQLITE_BUSY || rc == SQLITE_LOCKED)      ? core::StatusCode::kUnavailable
                     : (rc == SQLITE_CORRUPT || rc == SQLITE_NOTADB) ? core::StatusCode::kDataLoss
                                                                     : core::StatusCode::kInternal;
@@ -75,12 +84,12 @@ void Stmt::Reset() {
 
 Result<bool> Stmt::Step() {
   if (bind_error_ != SQLITE_OK) {
-    return SqliteError(db_, bind_error_, "bind", sqlite3_sql(stmt_.get()));
+    return SqliteError(db_, bind_error_, "bind", sqlite3_sql(stmt_.get()), free_space_);
   }
   const int rc = sqlite3_step(stmt_.get());
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
-  return SqliteError(db_, rc, "step", sqlite3_sql(stmt_.get()));
+  return SqliteError(db_, rc, "step", sqlite3_sql(stmt_.get()), free_space_);
 }
 
 Status Stmt::Run() {
@@ -141,7 +150,7 @@ Db::Cache::~Cache() {
 Result<Stmt> Db::Prepare(std::string_view sql) {
   const auto found = cache_.by_sql.find(std::string(sql));
   if (found != cache_.by_sql.end() && !found->second->in_use.exchange(true)) {
-    return Stmt(db_.get(), found->second->stmt, &found->second->in_use);
+    return Stmt(db_.get(), found->second->stmt, free_space_, &found->second->in_use);
   }
   const bool cache = found == cache_.by_sql.end() && cache_.by_sql.size() < kCachedStatements;
   sqlite3_stmt* raw = nullptr;
@@ -149,20 +158,20 @@ Result<Stmt> Db::Prepare(std::string_view sql) {
                                     cache ? SQLITE_PREPARE_PERSISTENT : 0, &raw, nullptr);
   if (rc != SQLITE_OK) {
     sqlite3_finalize(raw);
-    return SqliteError(db_.get(), rc, "prepare", sql);
+    return SqliteError(db_.get(), rc, "prepare", sql, free_space_);
   }
-  if (!cache || raw == nullptr) return Stmt(db_.get(), raw);  // raw null: only a comment
+  if (!cache || raw == nullptr) return Stmt(db_.get(), raw, free_space_);  // null: a comment
   auto cached = std::make_unique<Cached>();
   cached->stmt = raw;
   cached->in_use = true;
   std::atomic<bool>* in_use = &cached->in_use;
   cache_.by_sql.emplace(std::string(sql), std::move(cached));
-  return Stmt(db_.get(), raw, in_use);
+  return Stmt(db_.get(), raw, free_space_, in_use);
 }
 
 Status Db::Exec(const std::string& sql) {
   const int rc = sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr);
-  if (rc != SQLITE_OK) return SqliteError(db_.get(), rc, "exec", sql);
+  if (rc != SQLITE_OK) return SqliteError(db_.get(), rc, "exec", sql, free_space_);
   return Status::Ok();
 }
 

@@ -1,6 +1,9 @@
 // RAII around the SQLite C API: a connection (Db), a prepared statement (Stmt) and an immediate
 // write transaction (WriteTx). Errors come back as Status; destructors never throw.
 //
+// SQLITE_FULL (the file system refused to grow the database or its WAL) is RESOURCE_EXHAUSTED
+// with the free space measured; BUSY and LOCKED are UNAVAILABLE, a corrupt file DATA_LOSS.
+//
 // An error's Status never carries SQL text or SQLite's own message (which names tables and
 // columns): those go to the log, and the Status says which store operation failed (the
 // StoreOperation running on the thread) with SQLite's generic text for the code. Store errors
@@ -21,6 +24,7 @@
 
 namespace seep::service {
 
+class FreeSpaceGuard;
 using core::Result;
 using core::Status;
 
@@ -70,11 +74,13 @@ class Stmt {
     std::atomic<bool>* in_use = nullptr;  // the cache entry's flag; null: not cached
     void operator()(sqlite3_stmt* s) const noexcept;
   };
-  Stmt(sqlite3* db, sqlite3_stmt* stmt, std::atomic<bool>* in_use = nullptr)
-      : db_(db), stmt_(stmt, Release{in_use}) {}
+  Stmt(sqlite3* db, sqlite3_stmt* stmt, const FreeSpaceGuard* free_space,
+       std::atomic<bool>* in_use = nullptr)
+      : db_(db), stmt_(stmt, Release{in_use}), free_space_(free_space) {}
 
   sqlite3* db_;
   std::unique_ptr<sqlite3_stmt, Release> stmt_;
+  const FreeSpaceGuard* free_space_;  // the Db's, for the figures of SQLITE_FULL
   int bind_error_ = SQLITE_OK;
 };
 
@@ -95,6 +101,9 @@ class Db {
   std::int64_t Changes() const { return sqlite3_changes64(db_.get()); }
   // The connection itself, for what this class does not wrap (a WAL hook).
   sqlite3* handle() const { return db_.get(); }
+  // SQLITE_FULL errors (RESOURCE_EXHAUSTED) name the free space this guard measures; it must
+  // outlive the connection.
+  void set_free_space(const FreeSpaceGuard* guard) { free_space_ = guard; }
 
  private:
   struct Closer {
@@ -116,6 +125,7 @@ class Db {
   static constexpr std::size_t kCachedStatements = 256;
 
   std::unique_ptr<sqlite3, Closer> db_;
+  const FreeSpaceGuard* free_space_ = nullptr;
   Cache cache_;
 };
 

@@ -99,13 +99,17 @@ class GrpcSeepdTest : public ::testing::Test {
     if (!token_.empty()) ctx.AddMetadata("authorization", "Bearer " + token_);
   }
 
-  std::string Submit(const v1::Scene& scene) {
+  // The submit's status, the job in `response` when it is OK.
+  grpc::Status TrySubmit(const v1::Scene& scene, v1::SubmitJobResponse& response) {
     grpc::ClientContext ctx;
     Prepare(ctx);
     v1::SubmitJobRequest request;
     *request.mutable_scene() = scene;
+    return stub_->SubmitJob(&ctx, request, &response);
+  }
+  std::string Submit(const v1::Scene& scene) {
     v1::SubmitJobResponse response;
-    const grpc::Status status = stub_->SubmitJob(&ctx, request, &response);
+    const grpc::Status status = TrySubmit(scene, response);
     EXPECT_TRUE(status.ok()) << status.error_message();
     return response.job().id();
   }
