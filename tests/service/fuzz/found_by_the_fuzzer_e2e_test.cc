@@ -1,0 +1,73 @@
+// What the request fuzzer found (fuzz_session.h), each on a real seepd as the fuzzer met it,
+// named by the seed and request that found it (bench/service/seep_service_fuzz_bench --seed S
+// replays the run).
+#include <gtest/gtest.h>
+
+#include "../e2e/grpc_seepd_fixture.h"
+#include "base_requests.h"
+
+namespace seep::testing {
+namespace {
+
+class FoundByTheFuzzer : public GrpcSeepdTest {
+ protected:
+  FoundByTheFuzzer() : GrpcSeepdTest("e2e-found-by-fuzzer") {}
+
+  static v1::Scene Base(const std::string& name) {
+    for (const fuzz::BaseScene& base : fuzz::BaseScenes()) {
+      if (base.name == name) return base.scene;
+    }
+    ADD_FAILURE() << "no base scene " << name;
+    return {};
+  }
+
+  // Refused at submit naming `field`, or accepted and FAILED naming it; either way seepd is the
+  // same process afterwards and runs the next job.
+  void ExpectRefusedOrFailedNamingAndSeepdRunsOn(const v1::Scene& scene, const std::string& field) {
+    const pid_t pid = server_.pid();
+    grpc::ClientContext ctx;
+    Prepare(ctx);
+    v1::SubmitJobRequest request;
+    *request.mutable_scene() = scene;
+    v1::SubmitJobResponse response;
+    const grpc::Status status = stub_->SubmitJob(&ctx, request, &response);
+    std::string reason = status.error_message();
+    if (status.ok()) {
+      // Polled while seepd lives: a seepd that went down fails the test at once.
+      v1::Job job = response.job();
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+      while (!IsTerminalState(job.state()) && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        ASSERT_EQ(server_.PollExit(), -1) << "seepd ended running " << scene.ShortDebugString();
+        job = Get(job.id());
+      }
+      EXPECT_EQ(job.state(), v1::JOB_STATE_FAILED) << job.DebugString();
+      reason = job.error().message();
+    } else {
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << reason;
+    }
+    EXPECT_NE(reason.find(field), std::string::npos) << field << " not in: " << reason;
+    ASSERT_EQ(server_.PollExit(), -1) << "seepd ended";
+    EXPECT_EQ(server_.pid(), pid);
+    const v1::Job next = WaitTerminal(Submit(Base("steady-lattice")));
+    EXPECT_EQ(next.state(), v1::JOB_STATE_SUCCEEDED) << next.DebugString();
+  }
+};
+
+// Seed 1, request 137: a lattice of disks 5e-324 m in radius (the smallest subnormal double)
+// segfaulted seepd when its job started: the contact detection's cell grid took 1 / 5e-324 = inf
+// as the inverse of its cell width, binned every disk at NaN, and indexed outside its arrays.
+TEST_F(FoundByTheFuzzer, ASubnormalLatticeRadiusIsRefusedWhileSeepdRunsOn) {
+  Start("data", {"--workers", "1"});
+  v1::Scene scene = Base("regions");
+  scene.mutable_packing()->mutable_lattice()->set_radius_m(5e-324);
+  ASSERT_NO_FATAL_FAILURE(
+      ExpectRefusedOrFailedNamingAndSeepdRunsOn(scene, "scene.packing.lattice.radius_m"));
+  scene = Base("steady-lattice");
+  scene.mutable_packing()->mutable_lattice()->set_radius_m(2e-310);
+  ASSERT_NO_FATAL_FAILURE(
+      ExpectRefusedOrFailedNamingAndSeepdRunsOn(scene, "scene.packing.lattice.radius_m"));
+}
+
+}  // namespace
+}  // namespace seep::testing
