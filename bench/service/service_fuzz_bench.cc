@@ -5,7 +5,7 @@
 //
 //   seep_service_fuzz_bench [--seed 1] [--requests 50000] [--rss-limit-mib 512] [--workers 2]
 //                           [--job-time-limit-s 5] [--end-wait-s 120] [--max-disks 20000]
-//                           [--seepd PATH]
+//                           [--max-sweep-jobs 64] [--max-backlog 100] [--seepd PATH]
 #include <grpcpp/grpcpp.h>
 #include <signal.h>
 #include <unistd.h>
@@ -30,6 +30,8 @@ struct FuzzBenchOptions {
   double job_time_limit_s = 5.0;
   int end_wait_s = 120;
   std::uint64_t max_disks = 20'000;
+  std::uint64_t max_sweep_jobs = 64;
+  std::int64_t max_backlog = 100;
   std::string seepd = SEEPD_PATH;
 };
 
@@ -62,6 +64,8 @@ int Run(const FuzzBenchOptions& options) {
   fuzz.end_wait = std::chrono::seconds(options.end_wait_s);
   fuzz.progress = &std::cout;
   fuzz.limits.max_disks = options.max_disks;
+  fuzz.limits.max_sweep_jobs = options.max_sweep_jobs;
+  fuzz.max_backlog = options.max_backlog;
   fuzz::FuzzSession session(
       grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()),
       seepd.pid(), dir / "data", fuzz);
@@ -95,6 +99,14 @@ int main(int argc, char** argv) {
   app.add_option("--max-disks", options.max_disks,
                  "scenes of more disks than this (up to the 20,000,000 admitted) are drawn again; "
                  "0 sends them too (issue 50 item 2: their set-up runs outside the time limit)")
+      ->capture_default_str();
+  app.add_option("--max-sweep-jobs", options.max_sweep_jobs,
+                 "sweeps of more jobs than this (up to the 10,000 admitted) are drawn again; 0 "
+                 "sends them too")
+      ->capture_default_str();
+  app.add_option("--max-backlog", options.max_backlog,
+                 "before each request, wait while more jobs than this are queued or running "
+                 "(0: never)")
       ->capture_default_str();
   app.add_option("--seepd", options.seepd, "the seepd binary")->capture_default_str();
   CLI11_PARSE(app, argc, argv);

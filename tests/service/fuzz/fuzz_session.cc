@@ -206,9 +206,31 @@ void FuzzSession::CheckProcess(std::uint64_t index, const FuzzRequest& request) 
   }
 }
 
+void FuzzSession::WaitForBacklog(std::uint64_t index) {
+  std::int64_t backlog = observer_.CountUnfinished();
+  if (options_.max_backlog <= 0 || backlog <= options_.max_backlog) return;
+  const auto start = std::chrono::steady_clock::now();
+  auto progress = start;
+  while (backlog > options_.max_backlog / 2 && observer_.Alive()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const std::int64_t now = observer_.CountUnfinished();
+    if (now < backlog) progress = std::chrono::steady_clock::now();
+    backlog = now;
+    if (std::chrono::steady_clock::now() - progress > options_.stall) {
+      Violation(index, nullptr,
+                fmt::format("{} jobs QUEUED or RUNNING, and none ended for {} s", backlog,
+                            options_.stall.count()));
+      break;
+    }
+  }
+  counts_.backlog_wait_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 void FuzzSession::SendRequests() {
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t i = 0; i < options_.requests && !seepd_gone_; ++i) {
+    WaitForBacklog(i);
     RebuildContext();
     FuzzRandom random(RequestSeed(options_.seed, i));
     const FuzzRequest request = GenerateRequest(random, context_, options_.limits);
@@ -348,13 +370,15 @@ void FuzzSession::CheckEndings() {
 }
 
 std::string FuzzSession::Report() const {
-  std::string out = fmt::format("fuzz seed {}: {} requests in {:.1f} s\n", options_.seed,
-                                counts_.requests, counts_.seconds);
-  if (options_.limits.max_disks > 0) {
+  std::string out = fmt::format(
+      "fuzz seed {}: {} requests in {:.1f} s ({:.1f} s of it waiting for at most {} queued jobs)\n",
+      options_.seed, counts_.requests, counts_.seconds, counts_.backlog_wait_s,
+      options_.max_backlog);
+  if (options_.limits.max_disks > 0 || options_.limits.max_sweep_jobs > 0) {
     out += fmt::format(
         "  left out: {} requests for scenes of {} to 20,000,000 disks (valid, but their set-up "
-        "runs outside the job time limit: issue 50 item 2)\n",
-        counts_.redrawn, options_.limits.max_disks + 1);
+        "runs outside the job time limit: issue 50 item 2) or sweeps of {} to 10,000 jobs\n",
+        counts_.redrawn, options_.limits.max_disks + 1, options_.limits.max_sweep_jobs + 1);
   }
   out += "  by method:";
   for (const auto& [method, n] : counts_.by_method) out += fmt::format(" {} {}", method, n);

@@ -34,6 +34,11 @@ struct FuzzOptions {
   std::chrono::seconds end_wait{60};
   std::chrono::seconds call_deadline{30};
   GeneratorLimits limits;
+  // Before each request, while more jobs than this are QUEUED or RUNNING the fuzzer waits, so
+  // that every accepted job can end within end_wait; a queue that ends no job for `stall` is a
+  // violation. 0: no wait.
+  std::int64_t max_backlog = 100;
+  std::chrono::seconds stall{120};
   std::ostream* progress = nullptr;  // a line every `progress_every` requests, when set
   std::uint64_t progress_every = 1000;
 };
@@ -53,6 +58,7 @@ struct FuzzCounts {
   std::map<std::string, std::uint64_t> failure_reasons;  // the first words of each reason
   std::size_t peak_rss_bytes = 0;
   double seconds = 0.0;
+  double backlog_wait_s = 0.0;  // of those, waiting for the queue to drain
 };
 
 class FuzzSession {
@@ -86,6 +92,7 @@ class FuzzSession {
   void CheckProcess(std::uint64_t index, const FuzzRequest& request);
   void Violation(std::uint64_t index, const FuzzRequest* request, const std::string& problem);
   void RebuildContext();
+  void WaitForBacklog(std::uint64_t index);
   std::vector<v1::Job> ListAll();
 
   std::shared_ptr<grpc::Channel> channel_;

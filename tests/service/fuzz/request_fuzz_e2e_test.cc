@@ -43,6 +43,7 @@ TEST_F(RequestFuzz, TwoThousandSeededRequestsKeepSeepdsInvariants) {
   options.seed = FuzzSeed();
   options.requests = 2000;
   options.limits.max_disks = 20'000;
+  options.limits.max_sweep_jobs = 64;
   options.rss_limit_bytes = kAddressSanitizer ? 0 : kRssBoundBytes;
   options.end_wait = std::chrono::seconds(kAddressSanitizer ? 120 : 30);
   fuzz::FuzzSession session(

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <google/protobuf/descriptor.pb.h>
+#include <google/protobuf/stubs/logging.h>
 
 #include <stdexcept>
 
@@ -101,10 +102,16 @@ FuzzRequest SubmitScene(FuzzRandom& random, const FuzzContext& context, bool mut
   return Wrap("SubmitJob", std::move(request), what);
 }
 
-FuzzRequest SubmitCalibration(FuzzRandom& random) {
+FuzzRequest SubmitCalibration(FuzzRandom& random, const FuzzContext& context) {
   auto request = std::make_unique<v1::SubmitJobRequest>();
   *request->mutable_calibration() = BaseCalibration();
   std::string what = "SubmitJob calibration";
+  if (random.Chance(0.2)) {
+    // The packing of an earlier job (of any kind, in any state), or of an odd id.
+    request->mutable_calibration()->mutable_scene()->mutable_packing()->clear_source();
+    request->mutable_calibration()->set_from_job_id(JobId(random, context));
+    what += " from " + request->calibration().from_job_id().substr(0, 40);
+  }
   if (random.Chance(0.85)) {
     what += ": " + Mutate(*request->mutable_calibration(), "calibration", random);
   }
@@ -328,6 +335,8 @@ FuzzRequest RawBytes(FuzzRandom& random, const FuzzContext& context) {
   request.id.clear();
   std::unique_ptr<Message> decoded(
       google::protobuf::MessageFactory::generated_factory()->GetPrototype(request.type)->New());
+  // Quietly: protobuf logs every string of damaged bytes that is not UTF-8.
+  const google::protobuf::LogSilencer quiet;
   if (decoded->ParseFromString(bytes)) {
     for (const char* name : {"id", "job_id"}) {
       if (const auto* field = request.type->FindFieldByName(name); field != nullptr) {
@@ -353,6 +362,8 @@ namespace {
 
 // The codec's own limit on a packing's disks (core's scene validation): above it, a refusal.
 constexpr std::uint64_t kAdmittedDisks = 20'000'000;
+// The service's limit on a sweep's jobs (seep_service_sweeps.cc): above it, a refusal.
+constexpr std::uint64_t kAdmittedSweepJobs = 10'000;
 
 std::uint64_t DisksOf(const v1::Packing& packing) {
   if (packing.has_lattice()) {
@@ -405,7 +416,7 @@ FuzzRequest Draw(FuzzRandom& random, const FuzzContext& context) {
   const std::uint64_t roll = random.Below(100);
   if (roll < 34) return SubmitScene(random, context, /*mutate=*/true);
   if (roll < 40) return SubmitScene(random, context, /*mutate=*/false);
-  if (roll < 45) return SubmitCalibration(random);
+  if (roll < 45) return SubmitCalibration(random, context);
   if (roll < 50) return SubmitFork(random, context);
   if (roll < 60) return SubmitSweep(random, context);
   if (roll < 80) return JobCall(random, context);
@@ -428,13 +439,38 @@ std::uint64_t LargestPacking(const FuzzRequest& request) {
   return 0;
 }
 
+std::uint64_t SweepJobCount(const FuzzRequest& request) {
+  const auto* submit = dynamic_cast<const v1::SubmitSweepRequest*>(request.message.get());
+  if (submit == nullptr) return 0;
+  const v1::Sweep& sweep = submit->sweep();
+  std::uint64_t points = sweep.axes_size() > 0 ? 1 : 0;
+  for (const v1::SweepAxis& axis : sweep.axes()) {
+    const auto values =
+        static_cast<std::uint64_t>(axis.numbers_size() + axis.texts_size() + axis.flags_size());
+    points = sweep.combine() == v1::SWEEP_COMBINE_ZIP ? std::max(points, values)
+                                                      : std::min(points * values, kAdmittedDisks);
+  }
+  if (sweep.has_replicates()) {
+    const std::uint64_t seeds = sweep.replicates().seeds_size() > 0
+                                    ? static_cast<std::uint64_t>(sweep.replicates().seeds_size())
+                                    : sweep.replicates().count();
+    points = std::min(std::max<std::uint64_t>(points, 1) * seeds, kAdmittedDisks);
+  }
+  return points;
+}
+
 FuzzRequest GenerateRequest(FuzzRandom& random, const FuzzContext& context,
                             const GeneratorLimits& limits) {
   int redrawn = 0;
   for (;;) {
     FuzzRequest request = Draw(random, context);
     const std::uint64_t disks = LargestPacking(request);
-    if (limits.max_disks == 0 || disks <= limits.max_disks || disks > kAdmittedDisks) {
+    const std::uint64_t jobs = SweepJobCount(request);
+    const bool large_disks =
+        limits.max_disks > 0 && disks > limits.max_disks && disks <= kAdmittedDisks;
+    const bool large_sweep =
+        limits.max_sweep_jobs > 0 && jobs > limits.max_sweep_jobs && jobs <= kAdmittedSweepJobs;
+    if (!large_disks && !large_sweep) {
       request.redrawn = redrawn;
       return request;
     }

@@ -35,6 +35,9 @@ struct GeneratorLimits {
   // gigabytes for minutes (issue 50, item 2: an admission estimate and a set-up under the time
   // limit are pending). 0: none left out. Counts above the codec's limit are still sent.
   std::uint64_t max_disks = 0;
+  // Sweeps of more jobs than this, up to the 10,000 a sweep may hold, are drawn again: valid, but
+  // thousands of queued jobs turn the run into a throughput test. 0: none left out.
+  std::uint64_t max_sweep_jobs = 0;
 };
 
 struct FuzzRequest {
@@ -58,5 +61,8 @@ FuzzRequest GenerateRequest(FuzzRandom& random, const FuzzContext& context,
 
 // The most disks a scene of the request (a sweep's every point) can have; 0 when it has none.
 std::uint64_t LargestPacking(const FuzzRequest& request);
+// The jobs a SubmitSweep request asks for (its axes combined, times its replicates); 0 for
+// other requests.
+std::uint64_t SweepJobCount(const FuzzRequest& request);
 
 }  // namespace seep::fuzz

@@ -50,11 +50,18 @@ bool SeepdObserver::Open() {
 }
 
 std::int64_t SeepdObserver::CountRows(const std::string& table) {
+  return Count("SELECT COUNT(*) FROM " + table);
+}
+
+std::int64_t SeepdObserver::CountUnfinished() {
+  return Count("SELECT COUNT(*) FROM jobs WHERE state IN ('QUEUED', 'RUNNING')");
+}
+
+std::int64_t SeepdObserver::Count(const std::string& query) {
   if (!Open()) return -1;
   sqlite3_stmt* stmt = nullptr;
   std::int64_t n = -1;
-  if (sqlite3_prepare_v2(db_, ("SELECT COUNT(*) FROM " + table).c_str(), -1, &stmt, nullptr) ==
-          SQLITE_OK &&
+  if (sqlite3_prepare_v2(db_, query.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
       sqlite3_step(stmt) == SQLITE_ROW) {
     n = sqlite3_column_int64(stmt, 0);
   }

@@ -29,6 +29,8 @@ class SeepdObserver {
   std::size_t RssBytes() const;
   // Rows of a table of the store (jobs, sweeps); -1 when the database cannot be read.
   std::int64_t CountRows(const std::string& table);
+  // Jobs QUEUED or RUNNING; -1 when the database cannot be read.
+  std::int64_t CountUnfinished();
   // The ids of the store's jobs.
   std::set<std::string> JobIds();
   // Folders of <data>/checkpoints named after no job of the store.
@@ -36,6 +38,7 @@ class SeepdObserver {
 
  private:
   bool Open();
+  std::int64_t Count(const std::string& query);
 
   pid_t pid_;
   std::filesystem::path data_dir_;
