@@ -69,6 +69,26 @@ TEST_F(FoundByTheFuzzer, ASubnormalLatticeRadiusIsRefusedWhileSeepdRunsOn) {
       ExpectRefusedOrFailedNamingAndSeepdRunsOn(scene, "scene.packing.lattice.radius_m"));
 }
 
+// Seed 1, request ~18,600 of a 50,000-request run: the moving-disks scene with a residual
+// aperture of 0.1 m (1e4 times its own) makes the fluid's critical step 5.9e-19 s against a DEM
+// step of 6.4e-8 s, and its first flow update 1.2e11 explicit sub-steps (the limit was 1e12):
+// days inside one DEM step, where neither cancel, --job-time-limit-s nor the lease reach. Its
+// lease expired, the job was queued again onto the second worker, both workers hung, and 101
+// queued jobs waited for minutes.
+TEST_F(FoundByTheFuzzer, AFlowUpdateOfTooManySubStepsFailsTheJobAndTheQueueMovesOn) {
+  Start("data", {"--workers", "2", "--job-time-limit-s", "5"});
+  v1::Scene scene = Base("moving-disks");
+  scene.mutable_aperture()->set_residual_aperture_m(0.1);
+  const std::string hung = Submit(scene);
+  const std::string next = Submit(Base("steady-lattice"));
+  const v1::Job job = WaitFor(
+      hung, [](const v1::Job& j) { return IsTerminalState(j.state()); }, std::chrono::seconds(30));
+  EXPECT_EQ(job.state(), v1::JOB_STATE_FAILED) << job.DebugString();
+  EXPECT_NE(job.error().message().find("sub-steps"), std::string::npos) << job.DebugString();
+  const v1::Job after = WaitTerminal(next);
+  EXPECT_EQ(after.state(), v1::JOB_STATE_SUCCEEDED) << after.DebugString();
+}
+
 // Seed 50, request 985 (with GeneratorLimits::max_disks 0): a steady lattice of 8 x 100,000
 // disks, valid, held a worker in its set-up for over 30 s at step 0 and took seepd to 988 MiB,
 // with --job-time-limit-s 5 (the limit starts at the first step). Issue 50 item 2: set-up under
