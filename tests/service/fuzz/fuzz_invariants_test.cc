@@ -1,6 +1,7 @@
 // The fuzzer's checks can fail: the refusal rule on messages that name a field and on ones that
 // do not, and on a real seepd each invariant planted broken (a job stored behind the fuzzer's
-// back, an RSS bound below what seepd uses, seepd killed) is reported with the seed and request.
+// back, an RSS bound below what seepd uses, a queue no worker drains, seepd killed) is reported
+// with the seed and request.
 #include <gtest/gtest.h>
 
 #include "../e2e/grpc_seepd_fixture.h"
@@ -52,13 +53,16 @@ class FuzzInvariants : public GrpcSeepdTest {
  protected:
   FuzzInvariants() : GrpcSeepdTest("e2e-fuzz-planted") {}
 
-  fuzz::FuzzSession Session(std::uint64_t requests, std::size_t rss_limit_bytes = 0) {
+  fuzz::FuzzSession Session(
+      std::uint64_t requests, std::size_t rss_limit_bytes = 0,
+      const std::function<void(fuzz::FuzzOptions&)>& adjust = [](fuzz::FuzzOptions&) {}) {
     const int port = WaitForPortFile((dir_ / "data.port").string(), std::chrono::seconds(5));
     fuzz::FuzzOptions options;
     options.seed = 7;
     options.requests = requests;
     options.rss_limit_bytes = rss_limit_bytes;
     options.end_wait = std::chrono::seconds(30);
+    adjust(options);
     return fuzz::FuzzSession(grpc::CreateChannel("127.0.0.1:" + std::to_string(port),
                                                  grpc::InsecureChannelCredentials()),
                              server_.pid(), dir_ / "data", options);
@@ -85,6 +89,17 @@ TEST_F(FuzzInvariants, AnRssBoundBelowSeepdsIsReported) {
   fuzz::FuzzSession session = Session(5, /*rss_limit_bytes=*/1 << 20);
   session.SendRequests();
   EXPECT_TRUE(Reports(session, "over the bound of 1 MiB")) << session.Report();
+}
+
+TEST_F(FuzzInvariants, AQueueThatEndsNoJobIsReportedAndEndsTheRun) {
+  Start("data", {"--workers", "0"});  // a coordinator whose jobs no worker runs
+  fuzz::FuzzSession session = Session(200, 0, [](fuzz::FuzzOptions& options) {
+    options.max_backlog = 2;
+    options.stall = std::chrono::seconds(2);
+  });
+  session.SendRequests();
+  EXPECT_TRUE(Reports(session, "and none ended for 2 s")) << session.Report();
+  EXPECT_LT(session.counts().requests, 200u);
 }
 
 TEST_F(FuzzInvariants, AKilledSeepdIsReportedAndEndsTheRun) {

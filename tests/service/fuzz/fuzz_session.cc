@@ -220,6 +220,8 @@ void FuzzSession::WaitForBacklog(std::uint64_t index) {
       Violation(index, nullptr,
                 fmt::format("{} jobs QUEUED or RUNNING, and none ended for {} s", backlog,
                             options_.stall.count()));
+      // The run stops here: every request after it would wait as long again.
+      queue_stuck_ = true;
       break;
     }
   }
@@ -231,6 +233,7 @@ void FuzzSession::SendRequests() {
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t i = 0; i < options_.requests && !seepd_gone_; ++i) {
     WaitForBacklog(i);
+    if (queue_stuck_) break;
     RebuildContext();
     FuzzRandom random(RequestSeed(options_.seed, i));
     const FuzzRequest request = GenerateRequest(random, context_, options_.limits);

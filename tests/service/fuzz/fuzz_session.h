@@ -66,7 +66,8 @@ class FuzzSession {
   FuzzSession(std::shared_ptr<grpc::Channel> channel, pid_t seepd_pid,
               std::filesystem::path data_dir, FuzzOptions options);
 
-  // Sends the requests, checking the invariants after each; stops early when seepd is gone.
+  // Sends the requests, checking the invariants after each; stops early when seepd is gone or
+  // its queue stands still.
   void SendRequests();
   // Waits for the accepted jobs and checks how they ended, the store and its folders.
   void CheckEndings();
@@ -108,6 +109,7 @@ class FuzzSession {
   std::int64_t expected_jobs_ = 0;
   std::int64_t expected_sweeps_ = 0;
   bool seepd_gone_ = false;
+  bool queue_stuck_ = false;  // no job ended for options_.stall
   bool rss_reported_ = false;
   std::vector<std::string> violations_;
 };
