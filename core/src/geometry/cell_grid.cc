@@ -1,5 +1,7 @@
 #include "seep/core/geometry/cell_grid.h"
 
+#include <fmt/format.h>
+
 #include <limits>
 #include <string>
 
@@ -67,9 +69,11 @@ Status CellGrid::Build(std::span<const double> x, std::span<const double> y,
     return InvalidArgument("cell grid: more than 2^31-1 points");
   }
   const double reach = options.reach;
-  if (!std::isfinite(reach) || !(reach > 0.0)) {
-    return InvalidArgument("cell grid: reach must be finite and > 0 (got " + std::to_string(reach) +
-                           ")");
+  // Normal, not only > 0: the inverse of a subnormal cell width is inf, which bins a point at
+  // NaN and indexes outside the cells.
+  if (!std::isfinite(reach) || !(reach > 0.0) || !std::isnormal(reach)) {
+    return InvalidArgument("cell grid: reach must be a finite normal number > 0 (got " +
+                           fmt::format("{}", reach) + ")");
   }
   SEEP_RETURN_IF_ERROR(ValidateAxis("x", options.x, reach));
   SEEP_RETURN_IF_ERROR(ValidateAxis("y", options.y, reach));

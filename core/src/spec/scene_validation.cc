@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -20,6 +21,13 @@ Status RequirePositive(const char* field, double value) {
   if (!std::isfinite(value) || value <= 0.0) {
     return InvalidArgument(
         fmt::format("scene.{}: must be a finite number > 0 (got {})", field, value));
+  }
+  // A subnormal quantity's inverse overflows to inf (a lattice of 5e-324 m disks made the contact
+  // grid's cell width infinite and took seepd down): no physical quantity of a scene is one.
+  if (!std::isnormal(value)) {
+    return InvalidArgument(
+        fmt::format("scene.{}: must be at least {} (the smallest normal double; got {})", field,
+                    std::numeric_limits<double>::min(), value));
   }
   return Status::Ok();
 }
@@ -117,6 +125,12 @@ Status ValidateParticles(const ParticleListSpec& list) {
       return InvalidArgument(
           fmt::format("scene.packing.particles[{}].radius_m: must be a finite number > 0 (got {})",
                       i, list.radius_m[i]));
+    }
+    if (!std::isnormal(list.radius_m[i])) {
+      return InvalidArgument(fmt::format(
+          "scene.packing.particles[{}].radius_m: must be at least {} (the smallest normal "
+          "double; got {})",
+          i, std::numeric_limits<double>::min(), list.radius_m[i]));
     }
   }
   return Status::Ok();

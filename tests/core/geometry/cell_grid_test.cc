@@ -155,6 +155,13 @@ TEST(CellGrid, RejectsBadOptionsAndHandlesEmpty) {
   EXPECT_FALSE(grid.Build(one, two, o).ok());
   o.reach = 0.0;
   EXPECT_FALSE(grid.Build(one, one, o).ok());
+  // A subnormal reach: its inverse is inf (it binned points at NaN, outside the cells).
+  o.reach = 5e-324;
+  const std::vector<double> tiny{0.0, 1e-323, 2e-323};
+  const Status subnormal = grid.Build(tiny, tiny, o);
+  EXPECT_EQ(subnormal.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(subnormal.message().find("finite normal number > 0 (got 5e-324)"), std::string::npos)
+      << subnormal.message();
   o.reach = 1.0;
   o.x = {true, 0.0, 2.9};  // fewer than 3 cells of the reach
   const Status short_period = grid.Build(one, one, o);
