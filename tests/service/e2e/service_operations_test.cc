@@ -262,9 +262,9 @@ TEST_F(ServiceOperations, DeleteRemovesAFinishedJobAndItsFilesAndRefusesARunning
 // checkpoint, finished.
 TEST_F(ServiceOperations, EventsTellAJobsHistoryInOrder) {
   Start("data", {"--checkpoint-every-steps", "300"});
-  // Long enough (about 19,000 steps) to be seen running past step 700: a worker process's
-  // progress reaches seepd once a second.
-  const std::string id = Submit(LatticeScene("eventful", 4e-2));
+  // Long enough (about 95,000 steps, seconds in Release) to be seen running past step 700: a
+  // worker process's progress reaches seepd once a second.
+  const std::string id = Submit(LatticeScene("eventful", 2e-1));
   ASSERT_EQ(WaitRunningPast(id, 700).state(), v1::JOB_STATE_RUNNING);
   stub_.reset();
   ASSERT_EQ(server_.Stop(SIGTERM), 0);
