@@ -560,11 +560,14 @@ int Run(const Options& options) {
       isolated ? options.job_memory_limit_mb.value_or(
                      seep::service::DefaultJobMemoryLimitMb(simulation_workers))
                : 0;
+  // Where the worker processes dial seepd (computed once: it names the socket it listens on).
+  const std::string worker_socket =
+      seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits);
   std::optional<seep::service::LocalWorkers> local_workers;
   if (isolated) {
     seep::service::LocalWorkersOptions local;
     local.worker_path = options.seep_worker.empty() ? DefaultWorkerPath() : options.seep_worker;
-    local.server = seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits);
+    local.server = worker_socket;
     local.count = simulation_workers;
     local.runner = options.runner;
     local.runner.threads_per_job = runner_options.threads_per_job;
@@ -644,8 +647,7 @@ int Run(const Options& options) {
   // The worker processes' own door: a socket in the data folder (0700), which --listen's TLS and
   // address do not concern; the token is still required when there is one.
   if (isolated) {
-    builder.AddListeningPort(seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits),
-                             grpc::InsecureServerCredentials());
+    builder.AddListeningPort(worker_socket, grpc::InsecureServerCredentials());
   }
   ApplyServerLimits(options, builder);
   builder.RegisterService(&service);
@@ -660,9 +662,7 @@ int Run(const Options& options) {
   if (isolated) {
     // The worker processes' socket: its owner's alone, as every file seepd writes (gRPC made it
     // with the mode the umask left, with execute bits a socket does not need).
-    const std::string socket =
-        seep::service::LocalWorkerSocketAddress(options.data_dir, *owner_bits);
-    if (socket.rfind("unix:", 0) == 0) ::chmod(socket.c_str() + 5, 0600);
+    if (worker_socket.rfind("unix:", 0) == 0) ::chmod(worker_socket.c_str() + 5, 0600);
   }
   logger->info(
       "seepd {} listening on {} (port {}), data in {}, {} worker(s) of {} thread(s){}",
